@@ -1,0 +1,113 @@
+"""The rendering camera (thesis §1.2.2, V_cam of §2.2) in Blender's conventions.
+
+World is Z-up and right-handed; the camera looks down its local -Z with +Y up. `view` maps world to
+camera space and `proj` camera to OpenGL clip space, as `Object.calc_matrix_camera` returns it, so
+NDC is [-1, 1]^3 with z = -1 on the near plane.
+"""
+
+import numpy as np
+
+from .validation import matrix4
+
+# Frustum corners in NDC; bit 0 of the index is x, bit 1 is y, bit 2 is z (near = 0, far = 1).
+NDC_CORNERS = np.array(
+    [[x, y, z, 1.0] for z in (-1.0, 1.0) for y in (-1.0, 1.0) for x in (-1.0, 1.0)]
+)
+# The 12 edges of the frustum as pairs of corner indices.
+FRUSTUM_EDGES = np.array(
+    [(a, a | bit) for bit in (1, 2, 4) for a in range(8) if not a & bit], dtype=np.intp
+)
+
+
+class Camera:
+    """A perspective or orthographic camera given by its view and projection matrices."""
+
+    def __init__(self, view, proj):
+        self.view = matrix4("view", view)
+        self.proj = matrix4("proj", proj)
+        row = self.proj[3] / np.abs(self.proj[3]).max()
+        if np.allclose(row, [0, 0, -1, 0], atol=1e-12):
+            self.orthographic = False
+        elif np.allclose(row, [0, 0, 0, 1], atol=1e-12):
+            self.orthographic = True
+        else:
+            raise ValueError("proj: neither a perspective nor an orthographic projection")
+        self.inv_view = np.linalg.inv(self.view)
+        self.inv_proj = np.linalg.inv(self.proj)
+        self.viewproj = self.proj @ self.view
+        axes = self.inv_view[:3, :3]
+        lengths = np.linalg.norm(axes, axis=0)
+        self.right, self.up, back = (axes / lengths).T
+        self.forward = -back
+        self.position = self.inv_view[:3, 3] / self.inv_view[3, 3]
+
+    def ndc_to_world(self, ndc):
+        """Map (..., 4) homogeneous NDC points to (..., 3) world points.
+
+        Inverting view and projection separately keeps the far plane accurate for clip ranges as
+        wide as 1e-4 .. 1e7.
+        """
+        cam = ndc @ self.inv_proj.T
+        world = cam @ self.inv_view.T
+        return world[..., :3] / world[..., 3:4]
+
+    def frustum_corners(self):
+        """The 8 world-space corners of V_cam, indexed as NDC_CORNERS."""
+        return self.ndc_to_world(NDC_CORNERS)
+
+    def rays(self, ndc_xy):
+        """World-space rays through (..., 2) NDC points: near-plane origins and far-plane ends."""
+        ndc_xy = np.asarray(ndc_xy, dtype=np.float64)
+        ones = np.ones(ndc_xy.shape[:-1] + (1,))
+        near = self.ndc_to_world(np.concatenate([ndc_xy, -ones, ones], axis=-1))
+        far = self.ndc_to_world(np.concatenate([ndc_xy, ones, ones], axis=-1))
+        return near, far
+
+    def clip(self, points):
+        """Clip-space coordinates (..., 4) of world points (..., 3)."""
+        points = np.asarray(points, dtype=np.float64)
+        return points @ self.viewproj[:, :3].T + self.viewproj[:, 3]
+
+    def in_frustum(self, points):
+        """Boolean mask of world points inside V_cam."""
+        c = self.clip(points)
+        w = c[..., 3:4]
+        return (w[..., 0] > 0) & np.all(np.abs(c[..., :3]) <= w, axis=-1)
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    """A world-to-camera matrix for a camera at `eye` looking at `target` (for tests and tools)."""
+    eye = np.asarray(eye, dtype=np.float64)
+    f = np.asarray(target, dtype=np.float64) - eye
+    f /= np.linalg.norm(f)
+    r = np.cross(f, up)
+    if np.linalg.norm(r) < 1e-12:
+        r = np.cross(f, (0.0, 1.0, 0.0))
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = r, u, -f
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def perspective(fov_y, aspect, near, far, shift=(0.0, 0.0)):
+    """An OpenGL projection matrix like Blender's for a perspective camera (fov in radians)."""
+    t = 1.0 / np.tan(fov_y / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = t / aspect, t
+    m[0, 2], m[1, 2] = 2.0 * shift[0], 2.0 * shift[1]
+    m[2, 2] = -(far + near) / (far - near)
+    m[2, 3] = -2.0 * far * near / (far - near)
+    m[3, 2] = -1.0
+    return m
+
+
+def orthographic(scale, aspect, near, far, shift=(0.0, 0.0)):
+    """An OpenGL projection matrix like Blender's for an orthographic camera of width `scale`."""
+    m = np.eye(4)
+    m[0, 0], m[1, 1] = 2.0 / scale, 2.0 * aspect / scale
+    m[0, 3], m[1, 3] = -2.0 * shift[0], -2.0 * shift[1]
+    m[2, 2] = -2.0 / (far - near)
+    m[2, 3] = -(far + near) / (far - near)
+    return m

@@ -1,0 +1,190 @@
+"""The projected grid algorithm (thesis §2.4) and its per-vertex stage (§3.1.1).
+
+`build_grid` runs the steps in order:
+  1. camera                                   -> Camera (camera.py)
+  2. V_visible = V_cam ∩ V_displaceable        -> visible_volume_points; none: not visible, stop
+  3. aim the projector                        -> projector.aim_projector (§2.4.1, §2.5)
+  4. range matrix from V_visible              -> Projector.with_range (§2.4.2)
+  5. grid over [0, 1]^2, uv = (u, v)           -> grid_uv / grid_topology
+  6. corners on S_base, interpolate the rest   -> Projector.corner_points (App. A), bilinear + divide
+  7. displace by f_HF, band-limited           -> HeightField.heights (§1.6, §3.2)
+  then normals from the grid neighbours (§3.1.1 step 4) and vertex efficiency (§4.1).
+"""
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .camera import Camera
+from .displaceable_volume import visible_volume_points
+from .projector import Projector, aim_projector
+from .validation import finite, integer, non_negative
+
+MAX_VERTICES = 2**25
+
+
+@dataclass
+class GridResult:
+    """One rebuild. Vertex arrays are row-major: index = row * resolution_x + column."""
+
+    positions: np.ndarray  # (N, 3) float32, world space
+    uv: np.ndarray  # (N, 2) float32, projector-space grid coordinates
+    normals: np.ndarray  # (N, 3) float32, unit, pointing up
+    lod: np.ndarray  # (N,) float32, band limit per vertex (height_field.octave_weights)
+    visible: bool
+    efficiency: float  # share of vertices inside the camera frustum (§4.1)
+    shader_octaves: tuple  # (first, count): octaves the geometry left out, in part or whole
+    projector: Projector | None
+    resolution: tuple
+    origin: np.ndarray  # (3,) float64: world position = origin + positions
+
+
+def check_resolution(resolution):
+    """(nx, ny) as ints >= 2 whose product fits MAX_VERTICES; ValueError naming `resolution`."""
+    try:
+        nx, ny = resolution
+    except (TypeError, ValueError):
+        raise ValueError(f"resolution: expected (x, y), got {resolution!r}") from None
+    nx = integer("resolution", nx, 2, MAX_VERTICES)
+    ny = integer("resolution", ny, 2, MAX_VERTICES)
+    if nx * ny > MAX_VERTICES:
+        raise ValueError(f"resolution: {nx}x{ny} exceeds {MAX_VERTICES} vertices")
+    return nx, ny
+
+
+@lru_cache(maxsize=8)
+def grid_topology(nx, ny):
+    """(F, 4) int32 quads, counter-clockwise seen from above S_base; built once per resolution."""
+    idx = np.arange(nx * ny, dtype=np.int32).reshape(ny, nx)
+    quads = np.stack(
+        [idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]], axis=-1
+    ).reshape(-1, 4)
+    quads.setflags(write=False)
+    return quads
+
+
+@lru_cache(maxsize=8)
+def grid_uv(nx, ny):
+    """(N, 2) float32 grid coordinates in [0, 1]^2 (§2.4 step 5)."""
+    u, v = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, ny))
+    uv = np.column_stack([u.ravel(), v.ravel()]).astype(np.float32)
+    uv.setflags(write=False)
+    return uv
+
+
+def _empty(resolution, octaves, origin):
+    z3 = np.zeros((0, 3), np.float32)
+    return GridResult(z3, np.zeros((0, 2), np.float32), z3.copy(), np.zeros(0, np.float32),
+                      False, 0.0, (octaves, 0), None, resolution, origin)
+
+
+def snapped_origin(camera, level, cell=1024.0):
+    """A local origin for float32 positions: the camera's xy snapped to `cell` metres, at `level`.
+
+    Relative to it, vertices near the camera keep sub-millimetre float32 precision however far the
+    camera is from the world origin, and the origin itself changes only every `cell` metres.
+    """
+    xy = np.round(np.asarray(camera.position[:2], dtype=np.float64) / cell) * cell
+    return np.array([xy[0], xy[1], level])
+
+
+def grid_normals(x, y, z):
+    """Unit normals from the neighbours in u and v (§3.1.1 step 4), on (ny, nx) arrays.
+
+    The z component of cross(dP/du, dP/dv) only depends on the flat grid, which the projector keeps
+    counter-clockwise, so the normals point up out of the water whatever the heights.
+    """
+    def d(a, axis):
+        out = np.empty_like(a)
+        lo = [slice(None)] * 2
+        hi = [slice(None)] * 2
+        mid = [slice(None)] * 2
+        lo[axis], hi[axis], mid[axis] = slice(0, -2), slice(2, None), slice(1, -1)
+        out[tuple(mid)] = a[tuple(hi)] - a[tuple(lo)]
+        first = [slice(None)] * 2
+        first[axis] = 0
+        second = [slice(None)] * 2
+        second[axis] = 1
+        last = [slice(None)] * 2
+        last[axis] = -1
+        before = [slice(None)] * 2
+        before[axis] = -2
+        out[tuple(first)] = a[tuple(second)] - a[tuple(first)]
+        out[tuple(last)] = a[tuple(last)] - a[tuple(before)]
+        return out
+
+    xu, yu, zu = d(x, 1), d(y, 1), d(z, 1)
+    xv, yv, zv = d(x, 0), d(y, 0), d(z, 0)
+    n = np.stack([yu * zv - zu * yv, zu * xv - xu * zv, xu * yv - yu * xv], axis=-1)
+    length = np.linalg.norm(n, axis=-1, keepdims=True)
+    flat = length[..., 0] == 0.0
+    n = np.divide(n, length, out=np.zeros_like(n), where=~flat[..., None])
+    n[flat] = (0.0, 0.0, 1.0)
+    return n.reshape(-1, 3).astype(np.float32)
+
+
+def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
+               projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector):
+    """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
+
+    Positions are world space relative to `origin` (default the world origin; see
+    `snapped_origin`). `aim` places the projector; it is a parameter so tests can substitute the
+    naive projector of §2.3 and show the stability suite catches it.
+    """
+    if not isinstance(camera, Camera):
+        camera = Camera(*camera)
+    level = finite("level", level)
+    time = finite("time", time)
+    elevation = non_negative("projector_elevation", projector_elevation)
+    nx, ny = check_resolution(resolution)
+    hf = height_field
+    bound = hf.bound
+    origin = np.zeros(3) if origin is None else np.asarray(origin, dtype=np.float64)
+    if origin.shape != (3,) or not np.all(np.isfinite(origin)):
+        raise ValueError(f"origin: expected a finite 3-vector, got {origin!r}")
+
+    points = visible_volume_points(camera, level, bound)
+    if len(points) == 0:
+        return _empty((nx, ny), hf.octaves, origin)
+    points[:, 2] = level  # onto S_base
+    projector = aim(camera, level, bound, elevation, points).with_range(points, origin)
+    c = projector.corner_points(level)
+
+    # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v).
+    u = np.linspace(0.0, 1.0, nx)
+    v = np.linspace(0.0, 1.0, ny)[:, None]
+    a, du, dv, duv = c[0], c[1] - c[0], c[2] - c[0], c[3] - c[2] - c[1] + c[0]
+    start = a + v * dv  # (ny, 4): hom at u = 0
+    step = du + v * duv  # (ny, 4): d hom / du
+    hx = start[:, 0:1] + u * step[:, 0:1]
+    hy = start[:, 1:2] + u * step[:, 1:2]
+    hw = start[:, 3:4] + u * step[:, 3:4]
+    x, y = hx / hw, hy / hw
+
+    lod = None
+    if band_limit:
+        # World spacing from the homography's Jacobian: d(h/w) = (dh - (h/w) dw) / w.
+        colv = dv + u[:, None] * duv  # (nx, 4): d hom / dv
+        su = np.hypot(step[:, 0:1] - x * step[:, 3:4], step[:, 1:2] - y * step[:, 3:4])
+        sv = np.hypot(colv[:, 0] - x * colv[:, 3], colv[:, 1] - y * colv[:, 3])
+        spacing = np.maximum(su / (nx - 1), sv / (ny - 1)) / np.abs(hw)
+        with np.errstate(divide="ignore"):
+            lod = np.log2(hf.wave_scale / (2.0 * spacing))
+
+    h = hf.heights(x, y, time, lod)
+    positions = np.empty((ny, nx, 3), dtype=np.float32)
+    positions[..., 0] = x - origin[0]
+    positions[..., 1] = y - origin[1]
+    positions[..., 2] = (level - origin[2]) + h
+    positions = positions.reshape(-1, 3)
+    normals = grid_normals(x, y, h)
+    inside = camera.in_frustum(positions + origin)
+    if lod is None:
+        lod32, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
+    else:
+        lod32 = lod.ravel().astype(np.float32)
+        first = int(np.clip(np.floor(lod.min()), 0, hf.octaves))
+        shader = (first, hf.octaves - first)
+    return GridResult(positions, grid_uv(nx, ny), normals, lod32, True,
+                      float(inside.mean()), shader, projector, (nx, ny), origin)

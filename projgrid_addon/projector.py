@@ -1,0 +1,187 @@
+"""The projector (thesis §2.3.2, §2.4 steps 3-6, §2.4.1, §2.4.2, §2.5, App. A).
+
+The projector is a second camera whose post-perspective space holds the grid. It is kept above
+S_upper (plus the user's elevation, §2.5), never rolled, and aimed so that every point of V_visible
+projected onto S_base lies inside its front half-space with a margin, which is what rules out
+backfiring (§2.3.2). A camera below S_base is handled by symmetry: only the distance to S_base and the
+view vector mirrored into the lower half-space are used (§2.4.1).
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+UP = np.array([0.0, 0.0, 1.0])
+# Every projected point of V_visible stays this angle (rad) inside the projector's front half-space.
+MARGIN_ANGLE = 0.01
+# Method 1 alone once |view_z| >= 1 / METHOD1_GAIN; blended with method 2 towards the horizon.
+METHOD1_GAIN = 8.0
+# Method 2 aims at a point this many projector heights ahead.
+METHOD2_DISTANCE = 8.0
+# Relative widening of the range so rays exactly on the screen edge still meet the mesh.
+RANGE_MARGIN = 1e-5
+
+# Normalised projections: only x/w and y/w matter to the grid (M_range absorbs field of view, aspect
+# and lens shift), so the depth row is chosen for conditioning. NDC z = 1 / distance (perspective)
+# or distance (orthographic); the lines of App. A run between z = 0 and z = 1.
+_PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, -1.0, 0]])
+_ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def _horizontal(v):
+    return np.array([v[0], v[1], 0.0])
+
+
+@dataclass
+class Projector:
+    """A projector: view (M_pview), normalised projection, and the range of §2.4.2."""
+
+    view: np.ndarray
+    proj: np.ndarray
+    position: np.ndarray
+    forward: np.ndarray
+    orthographic: bool
+    span: tuple = (-1.0, 1.0, -1.0, 1.0)
+    line_depths: tuple = (0.0, 1.0)
+
+    @classmethod
+    def looking(cls, position, right, up, forward, orthographic):
+        view = np.eye(4)
+        view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
+        view[:3, 3] = -view[:3, :3] @ position
+        proj = _ORTHOGRAPHIC if orthographic else _PERSPECTIVE
+        return cls(view, proj, position, forward, orthographic)
+
+    def with_range(self, points, origin=(0.0, 0.0, 0.0)):
+        """A copy whose span covers `points` on S_base (§2.4.2).
+
+        The span is widened by RANGE_MARGIN and by four float32 roundings of the points' coordinates
+        relative to `origin`, so rays on the screen edge still meet the float32 mesh.
+        """
+        points = np.asarray(points, dtype=np.float64)
+        c = points @ (self.proj @ self.view)[:, :3].T + (self.proj @ self.view)[:, 3]
+        ndc = c[:, :2] / c[:, 3:4]
+        lo, hi = ndc.min(axis=0), ndc.max(axis=0)
+        rounding = 4.0 * np.finfo(np.float32).eps * np.abs(points - origin).max(axis=1)
+        sensitivity = (1.0 + np.abs(ndc).sum(axis=1)) / np.abs(c[:, 3])
+        pad = RANGE_MARGIN * (hi - lo) + float((rounding * sensitivity).max())
+        pad = pad + 1e-12 * (1.0 + np.abs(lo) + np.abs(hi))
+        lo, hi = lo - pad, hi + pad
+        horizon = self.horizon_y
+        if horizon is not None:  # never pad across the horizon, where rays stop meeting S_base
+            top, bottom = ndc[:, 1].max(), ndc[:, 1].min()
+            if self.view[1, 2] > 0:
+                hi[1] = min(hi[1], top + 0.5 * (horizon - top))
+            else:
+                lo[1] = max(lo[1], bottom + 0.5 * (horizon - bottom))
+        return Projector(self.view, self.proj, self.position, self.forward, self.orthographic,
+                         (lo[0], hi[0], lo[1], hi[1]), self.line_depths)
+
+    @property
+    def horizon_y(self):
+        """NDC y of S_base's horizon for a level perspective projector (None otherwise).
+
+        The ray through NDC (x, y) has direction x right + y up + forward, whose z is
+        y up_z + forward_z when the projector is not rolled.
+        """
+        right_z, up_z = self.view[0, 2], self.view[1, 2]
+        if self.orthographic or right_z != 0.0 or up_z == 0.0:
+            return None
+        return -self.forward[2] / up_z
+
+    @property
+    def range_matrix(self):
+        """M_range: maps grid [0, 1]^2 onto the span, leaving z and w alone."""
+        x0, x1, y0, y1 = self.span
+        m = np.eye(4)
+        m[0, 0], m[0, 3], m[1, 1], m[1, 3] = x1 - x0, x0, y1 - y0, y0
+        return m
+
+    @property
+    def matrix(self):
+        """M_projector = [M_pview M_perspective]^-1 M_range (column-vector form of §2.4 step 4)."""
+        return np.linalg.inv(self.proj @ self.view) @ self.range_matrix
+
+    def corner_points(self, level):
+        """Homogeneous intersections of the four corner lines with S_base (§2.4 step 6, App. A).
+
+        Rows are the grid corners (u, v) = (0, 0), (1, 0), (0, 1), (1, 1). Every line uses the same
+        two depths, so the result is affine in (u, v) and bilinear interpolation of the corners is
+        exactly the per-vertex intersection (§3.1.1).
+        """
+        uv = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+        z0, z1 = self.line_depths
+        grid = np.column_stack([uv, np.full(4, z0), np.ones(4)])
+        m = self.matrix
+        p0 = grid @ m.T
+        grid[:, 2] = z1
+        p1 = grid @ m.T
+        dz, dw = p1[:, 2] - p0[:, 2], p1[:, 3] - p0[:, 3]
+        t = (p0[:, 3] * level - p0[:, 2]) / (dz - dw * level)
+        return p0 + t[:, None] * (p1 - p0)
+
+
+def heading(camera):
+    """A horizontal direction for the projector, continuous in the camera's orientation.
+
+    It is the view vector's horizontal part, plus the camera's up vector's horizontal part as the
+    view turns vertical, so looking straight down or up the grid follows the screen (any roll).
+    No continuous choice exists for every orientation; this one is singular only for an upside-down
+    camera pitched about 51.8 degrees, where the fallback below applies.
+    """
+    f, u = camera.forward, camera.up
+    g = _horizontal(f) - f[2] * _horizontal(u)
+    for candidate in (g, _horizontal(f), _horizontal(u), _horizontal(camera.right)):
+        n = np.linalg.norm(candidate)
+        if n > 1e-9:
+            return candidate / n
+    return np.array([0.0, 1.0, 0.0])
+
+
+def aim_point(camera, level, height):
+    """Where the projector looks, as a horizontal offset from the camera (§2.4.1).
+
+    Method 1: where the view vector, mirrored into S_base's direction if it looks away, meets S_base.
+    Method 2: a point METHOD2_DISTANCE * height ahead, dropped onto S_base. The weight of method 1 is
+    min(1, METHOD1_GAIN |view_z|), so its point, which runs off to infinity at the horizon, enters
+    the blend with a bounded product and the aim stays continuous through the horizon.
+    """
+    f = camera.forward
+    fz = abs(f[2])
+    h_cam = abs(camera.position[2] - level)
+    w = min(1.0, METHOD1_GAIN * fz)
+    method1 = h_cam * (METHOD1_GAIN if fz * METHOD1_GAIN <= 1.0 else 1.0 / fz)  # = w * h_cam / fz
+    return ((1.0 - w) * METHOD2_DISTANCE * height + method1) * _horizontal(f)
+
+
+def aim_projector(camera, level, bound, elevation, base_points):
+    """Place and aim the projector for `camera` (§2.4 step 3, §2.4.1, §2.5).
+
+    `base_points` are the V_visible points projected onto S_base; the pitch is kept in the interval
+    where none of them is behind or beside the projector.
+    """
+    scale = max(1.0, float(np.abs(camera.position).max()), abs(level))
+    height = max(abs(camera.position[2] - level), bound + elevation, 1e-6 * scale)
+    eye = np.array([camera.position[0], camera.position[1], level + height])
+    g = heading(camera)
+    right = np.cross(g, UP)
+    aim = aim_point(camera, level, height) @ g
+    pitch = np.arctan2(height, aim)  # angle below the horizon, in (0, pi)
+    lo, hi = MARGIN_ANGLE, np.pi - MARGIN_ANGLE
+    if not camera.orthographic:
+        rel = base_points - eye
+        d = rel @ g
+        rho = np.hypot(d, height)
+        phi = np.arctan2(height, d)
+        c = np.sin(MARGIN_ANGLE) * np.linalg.norm(rel, axis=1) / rho
+        delta = np.arccos(np.minimum(c, 1.0))
+        lo = max(lo, float((phi - delta).max()))
+        hi = min(hi, float((phi + delta).min()))
+    pitch = float(np.clip(pitch, lo, hi)) if lo <= hi else np.pi / 2.0
+    forward = np.cos(pitch) * g - np.sin(pitch) * UP
+    up = np.sin(pitch) * g + np.cos(pitch) * UP
+    return Projector.looking(eye, right, up, forward, camera.orthographic)

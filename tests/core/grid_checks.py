@@ -1,0 +1,203 @@
+"""Camera poses and the properties every grid must have (used by the stability suite)."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
+from projgrid_addon.camera import orthographic, perspective
+from projgrid_addon.projector import heading
+
+
+@dataclass
+class Pose:
+    height: float = 10.0  # above the water level
+    pitch: float = -10.0  # degrees, + looks up
+    yaw: float = 0.0
+    roll: float = 0.0
+    fov: float = 50.0  # degrees, vertical
+    ortho_scale: float = 0.0  # > 0: orthographic camera of this width
+    near: float = 0.1
+    far: float = 1e4
+    distance: float = 0.0  # from the world origin, horizontally
+    bearing: float = 0.0  # direction of that offset, degrees
+    aspect: float = 16 / 9
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    level: float = 0.0
+    amplitude: float = 0.5
+    octaves: int = 6
+    roughness: float = 0.5
+    time: float = 0.0
+    elevation: float = 0.0
+    resolution: tuple = (17, 33)
+
+    def camera(self):
+        p, y, r = np.radians([self.pitch, self.yaw, self.roll])
+        forward = np.array([np.cos(p) * np.sin(y), np.cos(p) * np.cos(y), np.sin(p)])
+        right0 = np.array([np.cos(y), -np.sin(y), 0.0])
+        up0 = np.cross(right0, forward)
+        right = np.cos(r) * right0 + np.sin(r) * up0
+        up = np.cross(right, forward)
+        b = np.radians(self.bearing)
+        eye = np.array([self.distance * np.cos(b), self.distance * np.sin(b),
+                        self.level + self.height])
+        view = np.eye(4)
+        view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
+        view[:3, 3] = -view[:3, :3] @ eye
+        shift = (self.shift_x, self.shift_y)
+        if self.ortho_scale > 0:
+            proj = orthographic(self.ortho_scale, self.aspect, self.near, self.far, shift)
+        else:
+            proj = perspective(np.radians(self.fov), self.aspect, self.near, self.far, shift)
+        return Camera(view, proj)
+
+    def height_field(self, method="fast"):
+        return HeightField(amplitude=self.amplitude, wave_scale=40.0, octaves=self.octaves,
+                           roughness=self.roughness, speed=1.0, seed=7, method=method)
+
+    def build(self, camera=None, **kw):
+        camera = camera or self.camera()
+        kw.setdefault("origin", snapped_origin(camera, self.level))
+        return camera, build_grid(camera, self.height_field(), level=self.level, time=self.time,
+                                  resolution=self.resolution, projector_elevation=self.elevation,
+                                  **kw)
+
+
+def _ulp32(a):
+    return np.finfo(np.float32).eps * np.maximum(np.abs(a), 1.0)
+
+
+def triangles(result):
+    """(T, 3, 3) float64 world-space triangles of the grid (each quad split along 0-2)."""
+    q = grid_topology(*result.resolution)
+    p = result.positions.astype(np.float64) + result.origin
+    return np.concatenate([p[q[:, [0, 1, 2]]], p[q[:, [0, 2, 3]]]])
+
+
+def ray_hits(origins, ends, tris, tol=1e-7):
+    """For each segment origin->end, whether it meets any triangle (Moeller-Trumbore, vectorised)."""
+    d = (ends - origins)[:, None, :]
+    e1 = (tris[:, 1] - tris[:, 0])[None]
+    e2 = (tris[:, 2] - tris[:, 0])[None]
+    pv = np.cross(d, e2)
+    det = np.sum(e1 * pv, axis=-1)
+    ok = det != 0
+    inv = 1.0 / np.where(ok, det, 1.0)
+    tv = origins[:, None, :] - tris[None, :, 0]
+    u = np.sum(tv * pv, axis=-1) * inv
+    qv = np.cross(tv, e1)
+    v = np.sum(qv * d, axis=-1) * inv
+    s = np.sum(e2 * qv, axis=-1) * inv
+    hit = ok & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) & (s >= -tol) & (s <= 1 + tol)
+    return hit.any(axis=1)
+
+
+def screen_points(n=7):
+    """An n x n grid of NDC points including the screen edges and corners."""
+    t = np.linspace(-1.0, 1.0, n)
+    x, y = np.meshgrid(t, t)
+    return np.column_stack([x.ravel(), y.ravel()])
+
+
+def check_coverage(camera, result, level, bound, n=7):
+    """Rays crossing the whole displaceable volume within the clip range hit the mesh; rays whose
+    clipped segment stays outside the volume do not."""
+    near, far = camera.rays(screen_points(n))
+    lo, hi = level - bound, level + bound
+    zn, zf = near[:, 2], far[:, 2]
+    crossing = ((zn >= hi) & (zf <= lo) & (zn > zf)) | ((zn <= lo) & (zf >= hi) & (zf > zn))
+    outside = ((zn > hi) & (zf > hi)) | ((zn < lo) & (zf < lo))
+    slack = 1e-6 * (1.0 + bound)
+    outside &= np.minimum(np.abs(zn - level), np.abs(zf - level)) > bound + slack
+    if not result.visible:
+        assert not crossing.any(), "not visible, but a screen ray crosses the volume"
+        return
+    tris = triangles(result)
+    if crossing.any():
+        hit = ray_hits(near[crossing], far[crossing], tris)
+        assert hit.all(), f"coverage: {np.count_nonzero(~hit)} crossing rays miss the mesh"
+    if outside.any():
+        hit = ray_hits(near[outside], far[outside], tris)
+        assert not hit.any(), "rays that miss the volume hit the mesh"
+
+
+def check_result(camera, result, level, bound):
+    """Every property of one grid except coverage and popping (which need more than the result)."""
+    nx, ny = result.resolution
+    if not result.visible:
+        assert result.positions.shape == (0, 3) and result.efficiency == 0.0
+        return
+    n = nx * ny
+    assert result.positions.shape == (n, 3) and result.positions.dtype == np.float32
+    assert result.normals.shape == (n, 3) and result.uv.shape == (n, 2)
+    for name in ("positions", "normals", "uv"):
+        assert np.all(np.isfinite(getattr(result, name))), f"{name} not finite"
+    assert not np.any(np.isnan(result.lod))
+    assert 0.0 <= result.efficiency <= 1.0
+
+    world = result.positions.astype(np.float64) + result.origin
+    # Heights inside the displaceable volume (up to float32 rounding of the stored coordinate).
+    dz = np.abs(world[:, 2] - level)
+    assert np.all(dz <= bound * (1 + 1e-6) + 2 * _ulp32(result.positions[:, 2])), "height > bound"
+
+    # No backfiring: every vertex's base point lies in front of the projector.
+    pr = result.projector
+    base = world.copy()
+    base[:, 2] = level
+    if not pr.orthographic:
+        depth = (base - pr.position) @ pr.forward
+        assert np.all(depth > 0), f"backfiring: {np.count_nonzero(depth <= 0)} vertices behind"
+
+    # Consistent winding: every flat triangle is counter-clockwise seen from above.
+    q = grid_topology(nx, ny)
+    p = world[:, :2]
+    for tri in ([0, 1, 2], [0, 2, 3]):
+        a, b, c = p[q[:, tri[0]]], p[q[:, tri[1]]], p[q[:, tri[2]]]
+        cross = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
+        scale = np.abs(b - a).max(axis=1) * np.abs(c - a).max(axis=1)
+        assert np.all(cross >= -1e-4 * scale), "winding flips"
+
+    # Normals: unit length, pointing up.
+    length = np.linalg.norm(result.normals, axis=1)
+    assert np.allclose(length, 1.0, atol=1e-5), "normals not unit"
+    assert np.all(result.normals[:, 2] > 0), "normal pointing down"
+
+    # Corner interpolation equals the per-vertex ray-plane intersection.
+    x0, x1, y0, y1 = pr.span
+    uv = result.uv.astype(np.float64)
+    ndc = np.column_stack([x0 + uv[:, 0] * (x1 - x0), y0 + uv[:, 1] * (y1 - y0)])
+    inv = np.linalg.inv(pr.view)
+    right, up, back = inv[:3, 0], inv[:3, 1], inv[:3, 2]
+    if pr.orthographic:
+        start = pr.position + ndc[:, :1] * right + ndc[:, 1:] * up
+        direction = np.broadcast_to(-back, start.shape)
+    else:
+        start = np.broadcast_to(pr.position, (n, 3))
+        direction = ndc[:, :1] * right + ndc[:, 1:] * up - back
+    t = (level - start[:, 2]) / direction[:, 2]
+    exact = start + t[:, None] * direction
+    err = np.linalg.norm(exact[:, :2] - world[:, :2], axis=1)
+    reach = np.linalg.norm(exact - pr.position, axis=1)
+    tol = 1e-7 * reach + 4 * _ulp32(np.abs(result.positions[:, :2]).max(axis=1))
+    assert np.all(err <= tol), f"corner interpolation off by {(err / tol).max():.3g} x tolerance"
+
+
+def angular_moves(camera, a, b):
+    """Angle (rad) each vertex moves as seen from the camera between results a and b."""
+    pa = a.positions.astype(np.float64) + a.origin - camera.position
+    pb = b.positions.astype(np.float64) + b.origin - camera.position
+    na, nb = np.linalg.norm(pa, axis=1), np.linalg.norm(pb, axis=1)
+    cos = np.einsum("ij,ij->i", pa, pb) / (na * nb)
+    noise = 8 * np.finfo(np.float32).eps * (1 + np.abs(a.positions).max(axis=1)) / na
+    return np.arccos(np.clip(cos, -1, 1)), noise
+
+
+def heading_margin(camera):
+    """|g| of projector.heading before normalising: small only near its unavoidable singularity."""
+    f, u = camera.forward, camera.up
+    return float(np.hypot(f[0] - f[2] * u[0], f[1] - f[2] * u[1]))
+
+
+__all__ = ["Pose", "angular_moves", "check_coverage", "check_result", "heading", "heading_margin",
+           "ray_hits", "screen_points", "triangles"]
