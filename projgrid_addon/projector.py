@@ -65,11 +65,15 @@ class Projector:
         points = np.asarray(points, dtype=np.float64)
         c = points @ (self.proj @ self.view)[:, :3].T + (self.proj @ self.view)[:, 3]
         ndc = c[:, :2] / c[:, 3:4]
-        lo, hi = ndc.min(axis=0), ndc.max(axis=0)
         rounding = 4.0 * np.finfo(np.float32).eps * np.abs(points - origin).max(axis=1)
-        sensitivity = (1.0 + np.abs(ndc).sum(axis=1)) / np.abs(c[:, 3])
-        pad = RANGE_MARGIN * (hi - lo) + float((rounding * sensitivity).max())
-        pad = pad + 1e-12 * (1.0 + np.abs(lo) + np.abs(hi))
+        # How far NDC moves per metre: d(X/W) = (dX - x dW) / W in perspective, 1 in orthographic.
+        if self.orthographic:
+            sensitivity = 1.0
+        else:
+            sensitivity = (1.0 + np.abs(ndc).sum(axis=1)) / np.abs(c[:, 3])
+        each = (rounding * sensitivity)[:, None]
+        lo, hi = (ndc - each).min(axis=0), (ndc + each).max(axis=0)
+        pad = RANGE_MARGIN * (hi - lo) + 1e-12 * (1.0 + np.abs(lo) + np.abs(hi))
         lo, hi = lo - pad, hi + pad
         horizon = self.horizon_y
         if horizon is not None:  # never pad across the horizon, where rays stop meeting S_base
@@ -164,8 +168,12 @@ def aim_projector(camera, level, bound, elevation, base_points):
     `base_points` are the V_visible points projected onto S_base; the pitch is kept in the interval
     where none of them is behind or beside the projector.
     """
-    scale = max(1.0, float(np.abs(camera.position).max()), abs(level))
-    height = max(abs(camera.position[2] - level), bound + elevation, 1e-6 * scale)
+    # The floor keeps the projector above a zero-thickness sea, at 1e-6 of the frustum's reach so
+    # grazing intersections stay well conditioned in float64. The reach is the camera's own (not
+    # V_visible's, which jumps when the sea is seen edge-on), so the floor moves smoothly.
+    reach = float(np.abs(camera.frustum_corners() - camera.position).max())
+    floor = 1e-6 * reach
+    height = max(abs(camera.position[2] - level), bound + elevation, floor)
     eye = np.array([camera.position[0], camera.position[1], level + height])
     g = heading(camera)
     right = np.cross(g, UP)

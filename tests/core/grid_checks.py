@@ -89,7 +89,7 @@ def ray_hits(origins, ends, tris, tol=1e-7):
     qv = np.cross(tv, e1)
     v = np.sum(qv * d, axis=-1) * inv
     s = np.sum(e2 * qv, axis=-1) * inv
-    hit = ok & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) & (s >= -tol) & (s <= 1 + tol)
+    hit = ok & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) & (s >= 0) & (s <= 1)
     return hit.any(axis=1)
 
 
@@ -106,7 +106,7 @@ def check_coverage(camera, result, level, bound, n=7):
     near, far = camera.rays(screen_points(n))
     lo, hi = level - bound, level + bound
     zn, zf = near[:, 2], far[:, 2]
-    crossing = ((zn >= hi) & (zf <= lo) & (zn > zf)) | ((zn <= lo) & (zf >= hi) & (zf > zn))
+    crossing = ((zn > hi) & (zf < lo)) | ((zn < lo) & (zf > hi))
     outside = ((zn > hi) & (zf > hi)) | ((zn < lo) & (zf < lo))
     slack = 1e-6 * (1.0 + bound)
     outside &= np.minimum(np.abs(zn - level), np.abs(zf - level)) > bound + slack
@@ -141,22 +141,31 @@ def check_result(camera, result, level, bound):
     dz = np.abs(world[:, 2] - level)
     assert np.all(dz <= bound * (1 + 1e-6) + 2 * _ulp32(result.positions[:, 2])), "height > bound"
 
-    # No backfiring: every vertex's base point lies in front of the projector.
+    # No backfiring: every vertex comes from an intersection in front of the projector. The
+    # homogeneous w of the corner intersections is affine over the grid, so positive corners mean
+    # positive everywhere; the stored vertices agree up to their float32 rounding.
     pr = result.projector
-    base = world.copy()
-    base[:, 2] = level
     if not pr.orthographic:
+        corners = pr.corner_points(level)
+        assert np.all(corners[:, 3] > 0), "backfiring: a grid corner lies behind the projector"
+        base = world.copy()
+        base[:, 2] = level
         depth = (base - pr.position) @ pr.forward
-        assert np.all(depth > 0), f"backfiring: {np.count_nonzero(depth <= 0)} vertices behind"
+        slack = 4 * _ulp32(np.abs(result.positions).max(axis=1))
+        behind = np.count_nonzero(depth <= -slack)
+        assert behind == 0, f"backfiring: {behind} vertices behind"
 
-    # Consistent winding: every flat triangle is counter-clockwise seen from above.
+    # Consistent winding: every flat triangle is counter-clockwise seen from above, but for
+    # triangles smaller than the float32 rounding of their coordinates.
     q = grid_topology(nx, ny)
     p = world[:, :2]
+    ulp = _ulp32(np.abs(result.positions[:, :2]).max(axis=1))
     for tri in ([0, 1, 2], [0, 2, 3]):
         a, b, c = p[q[:, tri[0]]], p[q[:, tri[1]]], p[q[:, tri[2]]]
         cross = (b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0]
-        scale = np.abs(b - a).max(axis=1) * np.abs(c - a).max(axis=1)
-        assert np.all(cross >= -1e-4 * scale), "winding flips"
+        edges = np.abs(b - a).max(axis=1) + np.abs(c - a).max(axis=1)
+        rounding = 4 * ulp[q[:, tri]].max(axis=1) * edges
+        assert np.all(cross >= -1e-9 * edges**2 - rounding), "winding flips"
 
     # Normals: unit length, pointing up.
     length = np.linalg.norm(result.normals, axis=1)
@@ -165,8 +174,11 @@ def check_result(camera, result, level, bound):
 
     # Corner interpolation equals the per-vertex ray-plane intersection.
     x0, x1, y0, y1 = pr.span
-    uv = result.uv.astype(np.float64)
-    ndc = np.column_stack([x0 + uv[:, 0] * (x1 - x0), y0 + uv[:, 1] * (y1 - y0)])
+    assert np.allclose(result.uv[:, 0], np.tile(np.linspace(0, 1, nx), ny), atol=1e-7)
+    assert np.allclose(result.uv[:, 1], np.repeat(np.linspace(0, 1, ny), nx), atol=1e-7)
+    u = np.tile(np.linspace(0.0, 1.0, nx), ny)  # exact grid coordinates, not the float32 uv
+    v = np.repeat(np.linspace(0.0, 1.0, ny), nx)
+    ndc = np.column_stack([x0 + u * (x1 - x0), y0 + v * (y1 - y0)])
     inv = np.linalg.inv(pr.view)
     right, up, back = inv[:3, 0], inv[:3, 1], inv[:3, 2]
     if pr.orthographic:
@@ -183,14 +195,15 @@ def check_result(camera, result, level, bound):
     assert np.all(err <= tol), f"corner interpolation off by {(err / tol).max():.3g} x tolerance"
 
 
-def angular_moves(camera, a, b):
-    """Angle (rad) each vertex moves as seen from the camera between results a and b."""
-    pa = a.positions.astype(np.float64) + a.origin - camera.position
-    pb = b.positions.astype(np.float64) + b.origin - camera.position
-    na, nb = np.linalg.norm(pa, axis=1), np.linalg.norm(pb, axis=1)
-    cos = np.einsum("ij,ij->i", pa, pb) / (na * nb)
-    noise = 8 * np.finfo(np.float32).eps * (1 + np.abs(a.positions).max(axis=1)) / na
-    return np.arccos(np.clip(cos, -1, 1)), noise
+def relative_moves(a, b):
+    """How far each vertex moves between results a and b, relative to its distance from a's
+    projector (which stays above the volume, so the ratio never degenerates), and the float32
+    rounding share of that figure."""
+    pa = a.positions.astype(np.float64) + a.origin
+    pb = b.positions.astype(np.float64) + b.origin
+    reach = np.linalg.norm(pa - a.projector.position, axis=1)
+    rounding = 8 * np.finfo(np.float32).eps * (1 + np.abs(a.positions).max(axis=1)) / reach
+    return np.linalg.norm(pb - pa, axis=1) / reach, rounding
 
 
 def heading_margin(camera):
@@ -199,5 +212,30 @@ def heading_margin(camera):
     return float(np.hypot(f[0] - f[2] * u[0], f[1] - f[2] * u[1]))
 
 
-__all__ = ["Pose", "angular_moves", "check_coverage", "check_result", "heading", "heading_margin",
+FRUSTUM_FACES = [[c for c in range(8) if (c >> axis) & 1 == side] for axis in range(3)
+                 for side in (0, 1)]
+
+
+def seen_edge_on(camera, level, bound):
+    """Whether the displaceable volume has no area on screen, seen exactly edge-on.
+
+    That is a face of V_cam lying in S_upper or S_lower (a tilt turns the shared face into an edge,
+    so V_visible itself is discontinuous), or a flat sea (bound 0) with a perspective camera on it
+    or an orthographic one looking along it. Nothing of the surface can be seen to pop there.
+    """
+    z = camera.frustum_corners()[:, 2]
+    tol = 1e-12 * max(1.0, float(np.abs(z).max()))
+    for plane in (level - bound, level + bound):
+        for face in FRUSTUM_FACES:
+            if np.all(np.abs(z[face] - plane) <= tol):
+                return True
+    if bound == 0.0:
+        if camera.orthographic:
+            return abs(camera.forward[2]) <= 1e-12
+        return abs(camera.position[2] - level) <= tol
+    return False
+
+
+__all__ = ["Pose", "relative_moves", "check_coverage", "check_result", "seen_edge_on",
+           "heading", "heading_margin",
            "ray_hits", "screen_points", "triangles"]
