@@ -151,23 +151,26 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     projector = aim(camera, level, bound, elevation, points).with_range(points, origin)
     c = projector.corner_points(level)
 
-    # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v).
+    # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v), in the
+    # weighted form: corners can differ in scale by 1e6 (w ~ 1 / distance), and differences of
+    # corners would cancel catastrophically near the horizon.
     u = np.linspace(0.0, 1.0, nx)
     v = np.linspace(0.0, 1.0, ny)[:, None]
-    a, du, dv, duv = c[0], c[1] - c[0], c[2] - c[0], c[3] - c[2] - c[1] + c[0]
-    start = a + v * dv  # (ny, 4): hom at u = 0
-    step = du + v * duv  # (ny, 4): d hom / du
-    hx = start[:, 0:1] + u * step[:, 0:1]
-    hy = start[:, 1:2] + u * step[:, 1:2]
-    hw = start[:, 3:4] + u * step[:, 3:4]
+    left = (1.0 - v) * c[0] + v * c[2]  # (ny, 4): hom at u = 0
+    right = (1.0 - v) * c[1] + v * c[3]  # (ny, 4): hom at u = 1
+    iu = 1.0 - u
+    hx = iu * left[:, 0:1] + u * right[:, 0:1]
+    hy = iu * left[:, 1:2] + u * right[:, 1:2]
+    hw = iu * left[:, 3:4] + u * right[:, 3:4]
     x, y = hx / hw, hy / hw
 
     lod = None
     if band_limit:
         # World spacing from the homography's Jacobian: d(h/w) = (dh - (h/w) dw) / w.
-        colv = dv + u[:, None] * duv  # (nx, 4): d hom / dv
-        su = np.hypot(step[:, 0:1] - x * step[:, 3:4], step[:, 1:2] - y * step[:, 3:4])
-        sv = np.hypot(colv[:, 0] - x * colv[:, 3], colv[:, 1] - y * colv[:, 3])
+        du = right - left  # (ny, 4): d hom / du
+        dv = iu[:, None] * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
+        su = np.hypot(du[:, 0:1] - x * du[:, 3:4], du[:, 1:2] - y * du[:, 3:4])
+        sv = np.hypot(dv[:, 0] - x * dv[:, 3], dv[:, 1] - y * dv[:, 3])
         spacing = np.maximum(su / (nx - 1), sv / (ny - 1)) / np.abs(hw)
         with np.errstate(divide="ignore"):
             lod = np.log2(hf.wave_scale / (2.0 * spacing))

@@ -107,8 +107,16 @@ class Projector:
 
     @property
     def matrix(self):
-        """M_projector = [M_pview M_perspective]^-1 M_range (column-vector form of §2.4 step 4)."""
-        return np.linalg.inv(self.proj @ self.view) @ self.range_matrix
+        """M_projector = [M_pview M_perspective]^-1 M_range (column-vector form of §2.4 step 4).
+
+        M_pview is rigid, so its inverse is [R^T | position] exactly; a general inverse would lose
+        |position| * 1e-16 of the translation, which matters for a projector just above the water
+        far from the origin.
+        """
+        inv_view = np.eye(4)
+        inv_view[:3, :3] = self.view[:3, :3].T
+        inv_view[:3, 3] = self.position
+        return inv_view @ np.linalg.inv(self.proj) @ self.range_matrix
 
     def corner_points(self, level):
         """Homogeneous intersections of the four corner lines with S_base (§2.4 step 6, App. A).

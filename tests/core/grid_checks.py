@@ -179,8 +179,7 @@ def check_result(camera, result, level, bound):
     u = np.tile(np.linspace(0.0, 1.0, nx), ny)  # exact grid coordinates, not the float32 uv
     v = np.repeat(np.linspace(0.0, 1.0, ny), nx)
     ndc = np.column_stack([x0 + u * (x1 - x0), y0 + v * (y1 - y0)])
-    inv = np.linalg.inv(pr.view)
-    right, up, back = inv[:3, 0], inv[:3, 1], inv[:3, 2]
+    right, up, back = pr.view[:3, :3]  # rows of a rotation: its exact inverse's columns
     if pr.orthographic:
         start = pr.position + ndc[:, :1] * right + ndc[:, 1:] * up
         direction = np.broadcast_to(-back, start.shape)
