@@ -1,10 +1,10 @@
 """The projector (thesis §2.3.2, §2.4 steps 3-6, §2.4.1, §2.4.2, §2.5, App. A).
 
 The projector is a second camera whose post-perspective space holds the grid. It is kept above
-S_upper (plus the user's elevation, §2.5), never rolled, and aimed so that every point of V_visible
-projected onto S_base lies inside its front half-space with a margin, which is what rules out
-backfiring (§2.3.2). A camera below S_base is handled by symmetry: only the distance to S_base and the
-view vector mirrored into the lower half-space are used (§2.4.1).
+S_upper (plus the user's elevation, §2.5), never rolled, and aimed so that every point of
+V_visible projected onto S_base lies inside its front half-space with a margin, which is what rules
+out backfiring (§2.3.2). A camera below S_base is handled by symmetry: only the distance to S_base
+and the view vector mirrored into the lower half-space are used (§2.4.1).
 """
 
 from dataclasses import dataclass
@@ -157,10 +157,10 @@ def heading(camera):
 def aim_point(camera, level, height):
     """Where the projector looks, as a horizontal offset from the camera (§2.4.1).
 
-    Method 1: where the view vector, mirrored into S_base's direction if it looks away, meets S_base.
-    Method 2: a point METHOD2_DISTANCE * height ahead, dropped onto S_base. The weight of method 1 is
-    min(1, METHOD1_GAIN |view_z|), so its point, which runs off to infinity at the horizon, enters
-    the blend with a bounded product and the aim stays continuous through the horizon.
+    Method 1: where the view vector, mirrored towards S_base if it looks away, meets S_base.
+    Method 2: a point METHOD2_DISTANCE * height ahead, dropped onto S_base. The weight of method 1
+    is min(1, METHOD1_GAIN |view_z|), so its point, which runs off to infinity at the horizon,
+    enters the blend with a bounded product and the aim stays continuous through the horizon.
     """
     f = camera.forward
     fz = abs(f[2])

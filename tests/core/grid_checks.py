@@ -1,5 +1,6 @@
 """Camera poses and the properties every grid must have (used by the stability suite)."""
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -7,6 +8,8 @@ import numpy as np
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
 from projgrid_addon.camera import orthographic, perspective
 from projgrid_addon.projector import heading
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 @dataclass
@@ -75,8 +78,19 @@ def triangles(result):
     return np.concatenate([p[q[:, [0, 1, 2]]], p[q[:, [0, 2, 3]]]])
 
 
-def ray_hits(origins, ends, tris, tol=1e-7):
-    """For each segment origin->end, whether it meets any triangle (Moeller-Trumbore, vectorised)."""
+def ray_hits(origins, ends, tris, tol=1e-7, chunk=100_000):
+    """For each segment origin->end, whether it meets any triangle (Moeller-Trumbore, vectorised
+    over rays and a chunk of triangles at a time)."""
+    hits = np.zeros(len(origins), dtype=bool)
+    for i in range(0, len(tris), chunk):
+        todo = ~hits
+        if not todo.any():
+            break
+        hits[todo] = _ray_hits(origins[todo], ends[todo], tris[i:i + chunk], tol)
+    return hits
+
+
+def _ray_hits(origins, ends, tris, tol):
     d = (ends - origins)[:, None, :]
     e1 = (tris[:, 1] - tris[:, 0])[None]
     e2 = (tris[:, 2] - tris[:, 0])[None]
@@ -106,10 +120,11 @@ def check_coverage(camera, result, level, bound, n=7):
     near, far = camera.rays(screen_points(n))
     lo, hi = level - bound, level + bound
     zn, zf = near[:, 2], far[:, 2]
+    # Decided with a slack, so no ray is classed by the rounding of its end points.
+    slack = 1e-9 * (1.0 + np.abs(near).max() + np.abs(far).max()) + 1e-6 * bound
+    lo, hi = lo - slack, hi + slack
     crossing = ((zn > hi) & (zf < lo)) | ((zn < lo) & (zf > hi))
     outside = ((zn > hi) & (zf > hi)) | ((zn < lo) & (zf < lo))
-    slack = 1e-6 * (1.0 + bound)
-    outside &= np.minimum(np.abs(zn - level), np.abs(zf - level)) > bound + slack
     if not result.visible:
         assert not crossing.any(), "not visible, but a screen ray crosses the volume"
         return
@@ -216,22 +231,26 @@ FRUSTUM_FACES = [[c for c in range(8) if (c >> axis) & 1 == side] for axis in ra
 
 
 def seen_edge_on(camera, level, bound):
-    """Whether the displaceable volume has no area on screen, seen exactly edge-on.
+    """Whether the displaceable volume is seen edge-on, to within 1e-6 of the view's size.
 
     That is a face of V_cam lying in S_upper or S_lower (a tilt turns the shared face into an edge,
-    so V_visible itself is discontinuous), or a flat sea (bound 0) with a perspective camera on it
-    or an orthographic one looking along it. Nothing of the surface can be seen to pop there.
+    so V_visible itself jumps, or near it changes like gap / tilt), or a flat sea (bound 0) with a
+    perspective camera on it or an orthographic one looking along it. The surface has no area on
+    screen there, so nothing can be seen to pop.
     """
-    z = camera.frustum_corners()[:, 2]
-    tol = 1e-12 * max(1.0, float(np.abs(z).max()))
-    for plane in (level - bound, level + bound):
-        for face in FRUSTUM_FACES:
+    corners = camera.frustum_corners()
+    z = corners[:, 2]
+    for face in FRUSTUM_FACES:
+        size = np.ptp(corners[face], axis=0).max()
+        tol = 1e-6 * size + 1e-12 * max(1.0, float(np.abs(z).max()))
+        for plane in (level - bound, level + bound):
             if np.all(np.abs(z[face] - plane) <= tol):
                 return True
     if bound == 0.0:
         if camera.orthographic:
-            return abs(camera.forward[2]) <= 1e-12
-        return abs(camera.position[2] - level) <= tol
+            return abs(camera.forward[2]) <= 1e-6
+        reach = float(np.abs(corners - camera.position).max())
+        return abs(camera.position[2] - level) <= 1e-6 * reach
     return False
 
 

@@ -1,0 +1,84 @@
+"""Grid pipeline: bad input, topology, result contents, and the core's independence from bpy."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from projgrid_addon import (
+    Camera,
+    HeightField,
+    build_grid,
+    grid_topology,
+    look_at,
+    perspective,
+    snapped_origin,
+)
+
+from .grid_checks import ROOT
+
+CAM = (look_at((0, 0, 10), (0, 100, 5)), perspective(np.radians(50), 16 / 9, 0.1, 1e4))
+
+
+def test_thesis_default_grid():
+    r = build_grid(CAM, HeightField(), time=1.0)
+    assert r.visible and r.resolution == (65, 129)
+    assert r.positions.shape == (65 * 129, 3) and r.positions.dtype == np.float32
+    assert r.uv.dtype == np.float32 and r.normals.dtype == np.float32
+    assert 0.5 < r.efficiency <= 1.0
+    first, count = r.shader_octaves
+    assert 0 <= first <= 8 and first + count == 8
+
+
+def test_topology_built_once_and_counter_clockwise():
+    q = grid_topology(4, 3)
+    assert q is grid_topology(4, 3)
+    assert q.shape == (6, 4) and q.dtype == np.int32
+    assert list(q[0]) == [0, 1, 5, 4]
+
+
+def test_band_limit_leaves_detail_to_the_shader():
+    hf = HeightField(octaves=12, wave_scale=40.0)
+    r = build_grid(CAM, hf, resolution=(17, 17))
+    assert r.shader_octaves[1] > 0  # a 17x17 grid cannot carry 12 octaves
+    full = build_grid(CAM, hf, resolution=(17, 17), band_limit=False)
+    assert full.shader_octaves == (12, 0)
+
+
+def test_origin_keeps_float32_precision_far_away():
+    view = look_at((1e6, 2e6, 3), (1e6, 2e6 + 50, 0))
+    cam = Camera(view, CAM[1])
+    hf = HeightField(amplitude=0.0)
+    world = build_grid(cam, hf, resolution=(9, 9))
+    local = build_grid(cam, hf, resolution=(9, 9), origin=snapped_origin(cam, 0.0))
+    exact = local.positions.astype(np.float64) + local.origin
+    err_world = np.abs(world.positions.astype(np.float64) - exact).max()
+    err_local = np.abs(local.positions.astype(np.float64) + local.origin - exact).max()
+    assert err_world > 1e-2 > 1e-4 > err_local  # float32 at 2e6 m: centimetres; local: sub-mm
+
+
+@pytest.mark.parametrize(("args", "name"), [
+    ({"resolution": (1, 5)}, "resolution"), ({"resolution": (65,)}, "resolution"),
+    ({"resolution": (100_000, 100_000)}, "resolution"), ({"time": float("nan")}, "time"),
+    ({"level": float("inf")}, "level"), ({"projector_elevation": -1}, "projector_elevation"),
+    ({"origin": (0, 0)}, "origin"),
+])
+def test_bad_input_names_the_parameter(args, name):
+    with pytest.raises(ValueError, match=name):
+        build_grid(CAM, HeightField(), **args)
+
+
+@pytest.mark.parametrize(("view", "proj", "name"), [
+    (np.full((4, 4), np.nan), CAM[1], "view"), (np.zeros((4, 4)), CAM[1], "view"),
+    (CAM[0], np.eye(3), "proj"), (CAM[0], np.ones((4, 4)), "proj"),
+])
+def test_bad_matrices(view, proj, name):
+    with pytest.raises(ValueError, match=name):
+        Camera(view, proj)
+
+
+def test_core_imports_without_bpy():
+    code = ("import sys; sys.modules['bpy'] = None; import projgrid_addon; "
+            "assert 'bpy' not in [m for m in sys.modules if sys.modules[m]]")
+    subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
