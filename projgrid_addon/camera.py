@@ -5,6 +5,8 @@ camera space and `proj` camera to OpenGL clip space, as `Object.calc_matrix_came
 NDC is [-1, 1]^3 with z = -1 on the near plane.
 """
 
+from functools import cached_property
+
 import numpy as np
 
 from .validation import matrix4
@@ -51,9 +53,12 @@ class Camera:
         world = cam @ self.inv_view.T
         return world[..., :3] / world[..., 3:4]
 
-    def frustum_corners(self):
-        """The 8 world-space corners of V_cam, indexed as NDC_CORNERS."""
-        return self.ndc_to_world(NDC_CORNERS)
+    @cached_property
+    def corners(self):
+        """The 8 world-space corners of V_cam, indexed as NDC_CORNERS (read-only)."""
+        corners = self.ndc_to_world(NDC_CORNERS)
+        corners.setflags(write=False)
+        return corners
 
     def rays(self, ndc_xy):
         """World-space rays through (..., 2) NDC points: near-plane origins and far-plane ends."""

@@ -19,7 +19,7 @@ def visible_volume_points(camera, level, bound):
     These are the frustum corners between the bound planes and the intersections of the 12 frustum
     edges with S_upper and S_lower. An empty (0, 3) array means the volume is not in view.
     """
-    corners = camera.frustum_corners()
+    corners = camera.corners
     lower, upper = bound_planes(level, bound)
     z = corners[:, 2]
     found = [corners[(z >= lower) & (z <= upper)]]

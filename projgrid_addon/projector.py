@@ -63,7 +63,8 @@ class Projector:
         relative to `origin`, so rays on the screen edge still meet the float32 mesh.
         """
         points = np.asarray(points, dtype=np.float64)
-        c = points @ (self.proj @ self.view)[:, :3].T + (self.proj @ self.view)[:, 3]
+        m = self.proj @ self.view
+        c = points @ m[:, :3].T + m[:, 3]
         ndc = c[:, :2] / c[:, 3:4]
         rounding = 4.0 * np.finfo(np.float32).eps * np.abs(points - origin).max(axis=1)
         # How far NDC moves per metre: d(X/W) = (dX - x dW) / W in perspective, 1 in orthographic.
@@ -137,6 +138,12 @@ class Projector:
         return p0 + t[:, None] * (p1 - p0)
 
 
+def heading_vector(camera):
+    """The unnormalised heading; its length is small only near the singular orientations."""
+    f, u = camera.forward, camera.up
+    return _horizontal(f) - f[2] * _horizontal(u)
+
+
 def heading(camera):
     """A horizontal direction for the projector, continuous in the camera's orientation.
 
@@ -146,8 +153,8 @@ def heading(camera):
     camera pitched about 51.8 degrees, where the fallback below applies.
     """
     f, u = camera.forward, camera.up
-    g = _horizontal(f) - f[2] * _horizontal(u)
-    for candidate in (g, _horizontal(f), _horizontal(u), _horizontal(camera.right)):
+    for candidate in (heading_vector(camera), _horizontal(f), _horizontal(u),
+                      _horizontal(camera.right)):
         n = np.linalg.norm(candidate)
         if n > 1e-9:
             return candidate / n
@@ -179,7 +186,7 @@ def aim_projector(camera, level, bound, elevation, base_points):
     # The floor keeps the projector above a zero-thickness sea, at 1e-6 of the frustum's reach so
     # grazing intersections stay well conditioned in float64. The reach is the camera's own (not
     # V_visible's, which jumps when the sea is seen edge-on), so the floor moves smoothly.
-    reach = float(np.abs(camera.frustum_corners() - camera.position).max())
+    reach = float(np.abs(camera.corners - camera.position).max())
     floor = 1e-6 * reach
     height = max(abs(camera.position[2] - level), bound + elevation, floor)
     eye = np.array([camera.position[0], camera.position[1], level + height])

@@ -7,7 +7,7 @@ import numpy as np
 
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
 from projgrid_addon.camera import orthographic, perspective
-from projgrid_addon.projector import heading
+from projgrid_addon.projector import heading_vector
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -222,8 +222,7 @@ def relative_moves(a, b):
 
 def heading_margin(camera):
     """|g| of projector.heading before normalising: small only near its unavoidable singularity."""
-    f, u = camera.forward, camera.up
-    return float(np.hypot(f[0] - f[2] * u[0], f[1] - f[2] * u[1]))
+    return float(np.linalg.norm(heading_vector(camera)))
 
 
 FRUSTUM_FACES = [[c for c in range(8) if (c >> axis) & 1 == side] for axis in range(3)
@@ -238,7 +237,7 @@ def seen_edge_on(camera, level, bound):
     perspective camera on it or an orthographic one looking along it. The surface has no area on
     screen there, so nothing can be seen to pop.
     """
-    corners = camera.frustum_corners()
+    corners = camera.corners
     z = corners[:, 2]
     for face in FRUSTUM_FACES:
         size = np.ptp(corners[face], axis=0).max()
@@ -255,5 +254,5 @@ def seen_edge_on(camera, level, bound):
 
 
 __all__ = ["Pose", "relative_moves", "check_coverage", "check_result", "seen_edge_on",
-           "heading", "heading_margin",
+           "heading_margin",
            "ray_hits", "screen_points", "triangles"]
