@@ -14,6 +14,7 @@ and samples it bilinearly (error measured in tests/core/test_height_field.py).
 """
 
 from collections import OrderedDict
+from functools import lru_cache
 
 import numpy as np
 
@@ -108,6 +109,13 @@ class NoiseTiles:
         return bottom + fy * (top - bottom)
 
 
+@lru_cache(maxsize=8)
+def shared_tiles(seed, texels):
+    """The NoiseTiles of a seed, shared by every HeightField using it: a field is rebuilt whenever
+    a setting such as amplitude changes (or is animated), and its rendered slices stay valid."""
+    return NoiseTiles(seed, texels)
+
+
 class HeightField:
     """Fractal animated noise heights with a true displacement bound (S_upper/S_lower of §2.2)."""
 
@@ -122,7 +130,7 @@ class HeightField:
         if method not in METHODS:
             raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
         self.method = method
-        self._tiles = NoiseTiles(self.seed, texels) if method == "fast" else None
+        self._tiles = shared_tiles(self.seed, texels) if method == "fast" else None
         self._keys = [_noise.octave_key(self.seed, i) for i in range(self.octaves)]
 
     @property

@@ -13,7 +13,8 @@ def matrix4(name, value):
         raise ValueError(f"{name}: expected a 4x4 matrix, got shape {m.shape}")
     if not np.all(np.isfinite(m)):
         raise ValueError(f"{name}: contains NaN or infinity")
-    if not np.isfinite(np.linalg.cond(m)) or np.linalg.cond(m) > 1e15:
+    cond = np.linalg.cond(m)
+    if not np.isfinite(cond) or cond > 1e15:
         raise ValueError(f"{name}: matrix is singular")
     return m
 
