@@ -1,0 +1,59 @@
+"""Add Ocean: the ocean object at the 3D cursor, plus a sky and a sun if the scene has none."""
+
+import bpy
+
+from ..projgrid_addon import bridge, handlers
+from ..shaders import sky, water
+
+
+def has_sun(scene):
+    return any(o.type == "LIGHT" and o.data.type == "SUN" for o in scene.objects)
+
+
+class PROJGRID_OT_add_ocean(bpy.types.Operator):
+    """Add an infinite projected-grid ocean; its water level is the 3D cursor's height"""
+
+    bl_idname = "projgrid.add_ocean"
+    bl_label = "Add Ocean"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and context.mode == "OBJECT"
+
+    def execute(self, context):
+        scene = context.scene
+        collection = context.collection or scene.collection
+        mesh = bpy.data.meshes.new("Ocean")
+        mesh[bridge.TAG] = True
+        mesh.materials.append(water.material())
+        obj = bpy.data.objects.new("Ocean", mesh)
+        obj.projgrid.is_ocean = True
+        obj.location = scene.cursor.location
+        # Grid vertices do not correspond across frames: no deformation motion blur.
+        if hasattr(obj, "cycles"):
+            obj.cycles.use_deform_motion = False
+        collection.objects.link(obj)
+
+        added = []
+        if scene.world is None:
+            scene.world = sky.world()
+            added.append("a sky world")
+        if not has_sun(scene):
+            sky.sun(collection)
+            added.append("a sun lamp")
+
+        for other in context.view_layer.objects:
+            other.select_set(False)
+        obj.select_set(True)
+        context.view_layer.objects.active = obj
+
+        message = handlers.ensure_lock_interface(scene)
+        if message:
+            self.report({"INFO"}, message)
+        if added:
+            self.report({"INFO"}, "Added " + " and ".join(added))
+        problem = bridge.update_ocean(obj, scene, context.evaluated_depsgraph_get())
+        if problem:
+            self.report({"WARNING"}, f"Ocean added but not built: {problem}")
+        return {"FINISHED"}

@@ -1,0 +1,230 @@
+"""Where Blender meets the core: the ocean's settings, its camera, its mesh and material inputs.
+
+The only module of the core that imports bpy. Everything here reads Blender data, calls the core,
+and writes our own ocean mesh and material; it never writes anything of the user's.
+"""
+
+import time
+
+import bpy
+import numpy as np
+from bpy.props import BoolProperty, FloatProperty, IntProperty, PointerProperty
+
+from ..shaders import water
+from . import Camera, HeightField, build_grid, grid_topology, grid_uv
+from .projected_grid import check_resolution
+
+TAG = "projgrid_ocean"  # ID property marking the mesh and material we own
+LOD_ATTRIBUTE = "projgrid_lod"
+UV_MAP = "ProjectorUV"
+
+# Per-object runtime state, keyed by the object's name_full: stats for the panel, the message of
+# the last refused rebuild, and the signature of the last build (to skip identical rebuilds).
+STATE = {}
+# Set by the render handlers; the live preview steps aside while it is true.
+RENDERING = {"active": False}
+# The 3D view the live preview follows: {"view": 4x4, "proj": 4x4} or empty.
+LIVE_VIEW = {}
+
+
+def _settings_changed(self, context):
+    obj = self.id_data
+    if context.scene is not None and obj.name in context.scene.objects:
+        update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
+
+
+def _int(name, description, default, lo, hi, soft_hi=None):
+    return IntProperty(name=name, description=description, default=default, min=lo, max=hi,
+                       soft_max=soft_hi or hi, update=_settings_changed)
+
+
+def _float(name, description, default, lo, hi, soft_hi, unit="NONE", **kw):
+    return FloatProperty(name=name, description=description, default=default, min=lo, max=hi,
+                         soft_max=soft_hi, unit=unit, update=_settings_changed, **kw)
+
+
+class ProjectedGridSettings(bpy.types.PropertyGroup):
+    """`obj.projgrid`: the ocean's settings (all animatable)."""
+
+    is_ocean: BoolProperty(name="Is Ocean", default=False, options={"HIDDEN"})
+    resolution_x: _int("Resolution X", "Grid vertices across the screen in the viewport",
+                       65, 2, 8193, 1025)
+    resolution_y: _int("Resolution Y", "Grid vertices up the screen in the viewport",
+                       129, 2, 8193, 2049)
+    render_resolution_x: _int("Render X", "Grid vertices across the screen in renders",
+                              257, 2, 8193, 2049)
+    render_resolution_y: _int("Render Y", "Grid vertices up the screen in renders",
+                              513, 2, 8193, 4097)
+    amplitude: _float("Amplitude", "Height of the largest waves (the bound is the sum over "
+                      "octaves)", 0.5, 0.0, 1e4, 10.0, "LENGTH")
+    wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, 0.01, 1e5, 500.0,
+                       "LENGTH")
+    octaves: _int("Octaves", "Noise octaves, each half the wavelength of the one before",
+                  8, 0, 24)
+    roughness: _float("Roughness", "Amplitude ratio between octaves (alpha)", 0.5, 0.0, 2.0,
+                      1.0)
+    speed: _float("Speed", "Time scale of the animation", 1.0, -100.0, 100.0, 10.0)
+    seed: _int("Seed", "Noise seed", 0, 0, 2**31 - 1, 1000)
+    projector_elevation: _float("Projector Elevation", "Extra height of the projector above "
+                                "the waves (thesis §2.5)", 0.0, 0.0, 1e4, 100.0, "LENGTH")
+
+
+def height_field(settings):
+    """The core HeightField for (possibly evaluated) settings."""
+    return HeightField(amplitude=settings.amplitude, wave_scale=settings.wave_scale,
+                       octaves=settings.octaves, roughness=settings.roughness,
+                       speed=settings.speed, seed=settings.seed)
+
+
+def ocean_objects(scene):
+    return [obj for obj in scene.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
+
+
+def owns(id_block):
+    return id_block is not None and bool(id_block.get(TAG))
+
+
+def render_size(scene):
+    r = scene.render
+    pct = r.resolution_percentage / 100.0
+    return (max(1, round(r.resolution_x * pct)), max(1, round(r.resolution_y * pct)),
+            r.pixel_aspect_x, r.pixel_aspect_y)
+
+
+def camera_for(scene, depsgraph, render):
+    """(view, proj) of the scene camera as rendered (ValueError with a user message if none)."""
+    cam = scene.camera
+    if cam is None:
+        raise ValueError("the scene has no camera (set one, or use Live Preview)")
+    cam_eval = cam.evaluated_get(depsgraph)
+    if cam_eval.type == "CAMERA" and cam_eval.data.type == "PANO":
+        raise ValueError(f"camera {cam.name!r} is panoramic; the projected grid needs a "
+                         "perspective or orthographic camera")
+    x, y, sx, sy = render_size(scene)
+    proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
+    view = cam_eval.matrix_world.normalized().inverted()
+    return np.array(view, dtype=np.float64), np.array(proj, dtype=np.float64)
+
+
+def scene_time(scene):
+    """Seconds at the current (sub)frame."""
+    r = scene.render
+    return (scene.frame_current + scene.frame_subframe) * r.fps_base / r.fps
+
+
+def update_ocean(obj, scene, depsgraph, render=None, view=None):
+    """Rebuild `obj`'s grid for the current frame; returns the refusal message or None.
+
+    `render` defaults to whether `depsgraph` is a render depsgraph: renders use the render camera
+    and resolution, the viewport the live preview's view if one runs, else the scene camera.
+    Settings are read from the evaluated object, so animated values are honoured in renders.
+    """
+    state = STATE.setdefault(obj.name_full, {})
+    if render is None:
+        render = depsgraph.mode == "RENDER"
+    if not owns(obj.data):
+        return _refuse(state, None, "the ocean's mesh was replaced; it is left untouched "
+                       "(Add Ocean makes a new one)")
+    mesh = obj.data
+    obj_eval = obj.evaluated_get(depsgraph)
+    settings = obj_eval.projgrid
+    try:
+        if render:
+            res = (settings.render_resolution_x, settings.render_resolution_y)
+        else:
+            res = (settings.resolution_x, settings.resolution_y)
+        res = check_resolution(res)
+        if view is None and not render and LIVE_VIEW:
+            view = (LIVE_VIEW["view"], LIVE_VIEW["proj"])
+        camera = view if view is not None else camera_for(scene, depsgraph, render)
+        world = np.array(obj_eval.matrix_world, dtype=np.float64)
+        linear = world[:3, :3]
+        if abs(np.linalg.det(linear)) < 1e-12:
+            raise ValueError("the ocean object's scale is zero")
+        hf = height_field(settings)
+        t = scene_time(scene)
+        key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
+               world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
+               mesh.session_uid)
+        if key == state.get("key"):
+            return None
+        start = time.perf_counter()
+        result = build_grid(Camera(*camera), hf, level=world[2, 3], time=t, resolution=res,
+                            projector_elevation=settings.projector_elevation,
+                            origin=world[:3, 3])
+        write_mesh(mesh, result, np.linalg.inv(linear))
+    except ValueError as e:
+        return _refuse(state, mesh, str(e))
+    state.update(key=key, message=None, vertices=len(result.positions),
+                 efficiency=result.efficiency, ms=(time.perf_counter() - start) * 1e3,
+                 shader_octaves=result.shader_octaves, resolution=res, render=render)
+    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t)
+    return None
+
+
+SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
+            "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
+            "projector_elevation")
+
+
+def _refuse(state, mesh, message):
+    """Record why no grid was built; our mesh (never the user's) is emptied, not left stale."""
+    state.update(key=None, message=message, vertices=0, efficiency=0.0, ms=0.0)
+    if mesh is not None and len(mesh.vertices):
+        mesh.clear_geometry()
+    return message
+
+
+def set_topology(mesh, nx, ny):
+    """Replace the mesh's geometry by an nx x ny grid of quads (built once per resolution)."""
+    quads = grid_topology(nx, ny)
+    mesh.clear_geometry()
+    mesh.vertices.add(nx * ny)
+    mesh.loops.add(quads.size)
+    mesh.polygons.add(len(quads))
+    mesh.loops.foreach_set("vertex_index", quads.ravel())
+    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(quads), dtype=bool))
+    mesh.update(calc_edges=True)
+    uv = mesh.uv_layers.new(name=UV_MAP)
+    uv.data.foreach_set("uv", grid_uv(nx, ny)[quads.ravel()].ravel())
+    if LOD_ATTRIBUTE not in mesh.attributes:
+        mesh.attributes.new(LOD_ATTRIBUTE, "FLOAT", "POINT")
+
+
+def write_mesh(mesh, result, to_local):
+    """Write a GridResult into our mesh through the fast attribute path."""
+    if not result.visible:
+        if len(mesh.vertices):
+            mesh.clear_geometry()
+            mesh.update()
+        return
+    nx, ny = result.resolution
+    if len(mesh.vertices) != nx * ny or len(mesh.polygons) != (nx - 1) * (ny - 1):
+        set_topology(mesh, nx, ny)
+    positions = result.positions
+    if not np.allclose(to_local, np.eye(3), rtol=0.0, atol=0.0):
+        positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
+    mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
+    lod = np.minimum(result.lod, 64.0).astype(np.float32)  # finite for the shader
+    mesh.attributes[LOD_ATTRIBUTE].data.foreach_set("value", lod)
+    mesh.update()
+    mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path
+
+
+classes = (ProjectedGridSettings,)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings)
+
+
+def unregister():
+    del bpy.types.Object.projgrid
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
+    STATE.clear()
+    LIVE_VIEW.clear()
+    RENDERING["active"] = False

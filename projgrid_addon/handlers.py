@@ -1,0 +1,82 @@
+"""Persistent handlers: they, not the modal operator, own correctness in every render path.
+
+frame_change_post runs for viewport frame changes, `frame_set`, and every rendered frame (F12,
+animation renders, `blender -b ... -a` and `--render-frame`), each time with the depsgraph of that
+evaluation: a render depsgraph in renders, so the render camera, render resolution and animated
+settings are used. The render handlers keep Lock Interface on and tell the live preview to step
+aside; the load handlers end the live preview and forget per-file state.
+"""
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import bridge
+
+LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
+                "(the ocean mesh is rebuilt while rendering)")
+
+
+def ensure_lock_interface(scene):
+    """Switch on Lock Interface for a scene with an ocean; returns the message if it changed."""
+    if bridge.ocean_objects(scene) and not scene.render.use_lock_interface:
+        scene.render.use_lock_interface = True
+        return LOCK_MESSAGE.format(scene.name)
+    return None
+
+
+@persistent
+def frame_change_post(scene, depsgraph=None):
+    if depsgraph is None:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+    for obj in bridge.ocean_objects(scene):
+        bridge.update_ocean(obj, scene, depsgraph)
+
+
+@persistent
+def render_init(scene, _=None):
+    bridge.RENDERING["active"] = True
+    message = ensure_lock_interface(scene)  # takes effect from the next render
+    if message:
+        print(message)
+
+
+@persistent
+def render_done(scene, _=None):
+    bridge.RENDERING["active"] = False
+
+
+@persistent
+def load_pre(*_):
+    bridge.LIVE_VIEW.clear()
+    bridge.STATE.clear()
+
+
+@persistent
+def load_post(*_):
+    bridge.RENDERING["active"] = False
+    for scene in bpy.data.scenes:
+        message = ensure_lock_interface(scene)
+        if message:
+            print(message)
+
+
+HANDLERS = (
+    ("frame_change_post", frame_change_post),
+    ("render_init", render_init),
+    ("render_complete", render_done),
+    ("render_cancel", render_done),
+    ("load_pre", load_pre),
+    ("load_post", load_post),
+)
+
+
+def register():
+    for name, fn in HANDLERS:
+        getattr(bpy.app.handlers, name).append(fn)
+
+
+def unregister():
+    for name, fn in reversed(HANDLERS):
+        handlers = getattr(bpy.app.handlers, name)
+        while fn in handlers:
+            handlers.remove(fn)

@@ -1,0 +1,1 @@
+"""Shader node trees built from code: the water node group and the default sky."""

@@ -1,0 +1,49 @@
+"""A small helper for building shader node trees from code: each call adds a node, links the
+inputs that are sockets and sets the ones that are values, and returns the output socket."""
+
+
+def socket(sockets, key):
+    """A socket by index, name, or identifier (the Mix node's inputs share names across types)."""
+    if isinstance(key, int) or key in sockets:
+        return sockets[key]
+    return next(s for s in sockets if s.identifier == key)
+
+
+class Graph:
+    def __init__(self, tree):
+        self.tree = tree
+        self.nodes = tree.nodes
+        self.links = tree.links
+        self.x = 0
+
+    def node(self, kind, inputs=(), **props):
+        """Add a node of type `kind`; `inputs` maps input names or indices to sockets or values."""
+        node = self.nodes.new(kind)
+        node.location = (self.x, 0)
+        self.x += 40
+        for name, value in props.items():
+            setattr(node, name, value)
+        for key, value in dict(inputs).items():
+            self.set(socket(node.inputs, key), value)
+        return node
+
+    def set(self, socket, value):
+        if hasattr(value, "is_output"):
+            self.links.new(value, socket)
+        else:
+            socket.default_value = value
+
+    def math(self, operation, *args, clamp=False):
+        node = self.node("ShaderNodeMath", enumerate(args), operation=operation, use_clamp=clamp)
+        return node.outputs[0]
+
+    def vector(self, operation, *args, **named):
+        inputs = [*enumerate(args), *named.items()]
+        node = self.node("ShaderNodeVectorMath", inputs, operation=operation)
+        return node.outputs["Value" if operation in ("DOT_PRODUCT", "LENGTH") else "Vector"]
+
+    def mix(self, factor, a, b):
+        """Float lerp a -> b by factor."""
+        node = self.node("ShaderNodeMix", {"Factor_Float": factor, "A_Float": a, "B_Float": b},
+                         data_type="FLOAT")
+        return socket(node.outputs, "Result_Float")

@@ -1,0 +1,179 @@
+"""The EEVEE node group "Projected Grid Water" (thesis §3.4, App. B) and our water material.
+
+    colour = lerp(refraction, sky reflection + sun glint, F)                      (§3.4.8)
+
+F is the exact unpolarised Fresnel reflectance (Eq. 1.4) for IOR 1.333, written with math nodes in
+the form Blender's own Fresnel node uses (g = sqrt(eta^2 - 1 + c^2), total internal reflection
+when g^2 < 0; eta inverted on back faces, i.e. seen from under water). The sky is reflected along
+the reflection vector by a sharp glossy BSDF (the world), the sun glint is the Phong term of
+§3.4.5, max(0, R.L)^shininess, from the scene's sun lamp, and the refraction is the water colour.
+The octaves the geometry left out (GridResult.shader_octaves) come back as bump detail, faded in
+where the vertices' band limit (the per-vertex `projgrid_lod` attribute) dropped them (§3.1.3).
+"""
+
+import bpy
+import numpy as np
+
+from .nodes import Graph
+
+GROUP = "Projected Grid Water"
+MATERIAL = "Projected Grid Water"
+VERSION = 1  # stored in the TAG property; a group of another version is rebuilt
+TAG = "projgrid_ocean"
+LOD_ATTRIBUTE = "projgrid_lod"
+
+INPUTS = (  # name, socket type, default; the last group is written by the frame handler
+    ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
+    ("IOR", "NodeSocketFloat", 1.333),
+    ("Sun Strength", "NodeSocketFloat", 20.0),
+    ("Shininess", "NodeSocketFloat", 400.0),
+    ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 1.0)),
+    ("Sun Colour", "NodeSocketColor", (1.0, 1.0, 1.0, 1.0)),
+    ("Sun Visible", "NodeSocketFloat", 0.0),
+    ("Detail Scale", "NodeSocketFloat", 1.0),
+    ("Detail Height", "NodeSocketFloat", 0.0),
+    ("Detail Octaves", "NodeSocketFloat", 0.0),
+    ("Detail Roughness", "NodeSocketFloat", 0.5),
+    ("Detail Time", "NodeSocketFloat", 0.0),
+    ("Detail First Octave", "NodeSocketFloat", 0.0),
+)
+HANDLER_INPUTS = ("Sun Direction", "Sun Colour", "Sun Visible", "Detail Scale", "Detail Height",
+                  "Detail Octaves", "Detail Roughness", "Detail Time", "Detail First Octave")
+
+
+def node_group():
+    """Our node group, built if missing or of another version."""
+    group = bpy.data.node_groups.get(GROUP)
+    if group is not None and group.get(TAG) == VERSION:
+        return group
+    if group is None or group.get(TAG) is None:
+        group = bpy.data.node_groups.new(GROUP, "ShaderNodeTree")  # never take over a user's
+    else:
+        group.nodes.clear()
+        group.interface.clear()
+    group[TAG] = VERSION
+    _build(group)
+    return group
+
+
+def _build(group):
+    for name, kind, default in INPUTS:
+        socket = group.interface.new_socket(name, in_out="INPUT", socket_type=kind)
+        socket.default_value = default
+    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    group.interface.new_socket("Fresnel", in_out="OUTPUT", socket_type="NodeSocketFloat")
+
+    g = Graph(group)
+    i = g.node("NodeGroupInput").outputs
+    out = g.node("NodeGroupOutput")
+    geo = g.node("ShaderNodeNewGeometry").outputs
+    lod = g.node("ShaderNodeAttribute", attribute_name=LOD_ATTRIBUTE).outputs["Fac"]
+
+    # Left-out octaves as bump detail: full where the vertices carry none of the first shader
+    # octave (lod <= first), none where they carry it whole.
+    fade = g.math("SUBTRACT", g.math("ADD", i["Detail First Octave"], 1.0), lod, clamp=True)
+    noise = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Detail Time"],
+                                          "Scale": i["Detail Scale"],
+                                          "Detail": i["Detail Octaves"],
+                                          "Roughness": i["Detail Roughness"]},
+                   noise_dimensions="4D")
+    bump = g.node("ShaderNodeBump", {"Strength": fade, "Distance": i["Detail Height"],
+                                     "Height": noise.outputs["Fac"]})
+    normal = bump.outputs["Normal"]
+
+    # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos.
+    c = g.math("ABSOLUTE", g.vector("DOT_PRODUCT", normal, geo["Incoming"]))
+    eta = g.mix(geo["Backfacing"], i["IOR"], g.math("DIVIDE", 1.0, i["IOR"]))
+    g2 = g.math("MULTIPLY_ADD", c, c, g.math("MULTIPLY_ADD", eta, eta, -1.0))
+    gg = g.math("SQRT", g.math("MAXIMUM", g2, 0.0))
+    a = g.math("DIVIDE", g.math("SUBTRACT", gg, c), g.math("ADD", gg, c))
+    b = g.math("DIVIDE",
+               g.math("MULTIPLY_ADD", c, g.math("ADD", gg, c), -1.0),
+               g.math("MULTIPLY_ADD", c, g.math("SUBTRACT", gg, c), 1.0))
+    fresnel = g.math("MULTIPLY", g.math("MULTIPLY", g.math("MULTIPLY", a, a), 0.5),
+                     g.math("MULTIPLY_ADD", b, b, 1.0))
+    fresnel = g.mix(g.math("LESS_THAN", g2, 0.0), fresnel, 1.0)  # total internal reflection
+
+    # Sun glint: Phong term along the reflection vector R = reflect(-I, N) (§3.4.5).
+    r = g.vector("REFLECT", g.vector("SCALE", geo["Incoming"], Scale=-1.0), normal)
+    phong = g.math("POWER", g.math("MAXIMUM", g.vector("DOT_PRODUCT", r, i["Sun Direction"]),
+                                   0.0), i["Shininess"])
+    glint = g.node("ShaderNodeEmission", {
+        "Color": i["Sun Colour"],
+        "Strength": g.math("MULTIPLY", g.math("MULTIPLY", phong, i["Sun Strength"]),
+                           i["Sun Visible"]),
+    })
+    sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0,
+                                          "Normal": normal})
+    reflection = g.node("ShaderNodeAddShader", {0: sky.outputs[0], 1: glint.outputs[0]})
+    refraction = g.node("ShaderNodeEmission", {"Color": i["Water Colour"], "Strength": 1.0})
+    result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
+                                            2: reflection.outputs[0]})
+    g.set(out.inputs["Shader"], result.outputs[0])
+    g.set(out.inputs["Fresnel"], fresnel)
+
+
+def material():
+    """Our water material (made once; reused while it is ours)."""
+    mat = bpy.data.materials.get(MATERIAL)
+    if mat is not None and mat.get(TAG):
+        return mat
+    mat = bpy.data.materials.new(MATERIAL)
+    mat[TAG] = True
+    if mat.node_tree is None:  # Blender < 5.0 (from 5.0 every material has nodes)
+        mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.clear()
+    group = nodes.new("ShaderNodeGroup")
+    group.node_tree = node_group()
+    group.name = GROUP
+    output = nodes.new("ShaderNodeOutputMaterial")
+    output.location = (300, 0)
+    mat.node_tree.links.new(group.outputs["Shader"], output.inputs["Surface"])
+    mat.use_backface_culling = False
+    return mat
+
+
+def sun_lamp(scene, depsgraph):
+    """The first visible sun lamp of the scene (evaluated), or None."""
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
+            return obj.evaluated_get(depsgraph)
+    return None
+
+
+def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time):
+    """Per frame: the sun and the left-out octaves into the group node of our material."""
+    mat = obj.data.materials[0] if len(obj.data.materials) else None
+    if mat is None or not mat.get(TAG) or not mat.node_tree:
+        return
+    node = mat.node_tree.nodes.get(GROUP)
+    if node is None or node.type != "GROUP":
+        return
+    inputs = node.inputs
+    sun = sun_lamp(scene, depsgraph)
+    if sun is not None:
+        direction = np.array(sun.matrix_world.col[2][:3])  # a sun shines along its local -Z
+        direction /= max(np.linalg.norm(direction), 1e-12)
+        _set(inputs["Sun Direction"], tuple(direction))
+        _set(inputs["Sun Colour"], (*sun.data.color, 1.0))
+    _set(inputs["Sun Visible"], 1.0 if sun is not None and direction[2] > 0.0 else 0.0)
+    first, count = shader_octaves
+    hf = height_field
+    _set(inputs["Detail First Octave"], float(first))
+    _set(inputs["Detail Scale"], 1.0 / hf.wavelength(first))
+    _set(inputs["Detail Octaves"], float(max(count - 1, 0)))
+    _set(inputs["Detail Roughness"], min(hf.roughness, 1.0))
+    _set(inputs["Detail Height"], hf.amplitude * hf.roughness**first if count else 0.0)
+    _set(inputs["Detail Time"], float(hf.time_coordinate(first, time)))
+
+
+def _set(socket, value):
+    """Write only on change: every write tags the material for a depsgraph update."""
+    current = socket.default_value
+    if hasattr(current, "__len__"):
+        if np.allclose(tuple(current), value, rtol=0.0, atol=1e-7):
+            return
+    elif current == value:
+        return
+    socket.default_value = value

@@ -1,0 +1,45 @@
+"""Small helpers shared by the Blender tests."""
+
+import bpy
+import numpy as np
+
+
+def positions(mesh):
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.attributes["position"].data.foreach_get("vector", co)
+    return co.reshape(-1, 3)
+
+
+def add_camera(scene, location=(0.0, 0.0, 6.0), rotation=(84.0, 0.0, 0.0), kind="PERSP"):
+    data = bpy.data.cameras.new("Camera")
+    data.type = kind
+    data.clip_end = 20_000.0
+    cam = bpy.data.objects.new("Camera", data)
+    cam.location = location
+    cam.rotation_euler = np.radians(rotation)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    return cam
+
+
+def add_ocean():
+    assert bpy.ops.projgrid.add_ocean() == {"FINISHED"}
+    return bpy.context.active_object
+
+
+class RenderCapture:
+    """Records the ocean mesh as each frame is rendered (a render_post handler)."""
+
+    def __init__(self, name="Ocean"):
+        self.name = name
+        self.frames = {}
+
+    def __call__(self, scene, _=None):
+        self.frames[scene.frame_current] = positions(bpy.data.objects[self.name].data).copy()
+
+    def __enter__(self):
+        bpy.app.handlers.render_post.append(self)
+        return self
+
+    def __exit__(self, *exc):
+        bpy.app.handlers.render_post.remove(self)
