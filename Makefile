@@ -1,26 +1,54 @@
-# Every target sets up what it needs on a fresh machine: a venv per Python version, its packages.
-PY_VERSION ?= 3.13
+# Every target sets up what it needs on a fresh machine: a venv per Blender version, its packages.
+#   .venv      Python 3.13: bpy 5.2 (primary), the core's tools, OpenImageIO
+#   .venv-4.5  Python 3.11: bpy 4.5 LTS, numpy<2, OpenImageIO 3.0.x
 VENV ?= .venv
-PYTHON_BOOT = $(shell tools/find-python $(PY_VERSION))
+VENV45 ?= .venv-4.5
 PY = $(VENV)/bin/python
+PY45 = $(VENV45)/bin/python
+PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-core lint clean
+.PHONY: test test-core test-blender test-blender-4.5 lint package demo clean
+
+define make_venv
+	@py="$$(tools/find-python $(1))" && test -n "$$py" || { echo "Python $(1) not found"; exit 1; }; \
+	  test -x $(2)/bin/python || "$$py" -m venv $(2)
+endef
 
 $(VENV)/.core: requirements/core.txt
-	@test -n "$(PYTHON_BOOT)" || { echo "Python $(PY_VERSION) not found"; exit 1; }
-	$(PYTHON_BOOT) -m venv $(VENV)
-	$(PY) -m pip install --quiet --disable-pip-version-check -r requirements/core.txt
+	$(call make_venv,3.13,$(VENV))
+	$(PY) $(PIP) -r requirements/core.txt
 	touch $@
 
-test: $(VENV)/.core
-	$(PY) -m ruff check .
+$(VENV)/.blender: $(VENV)/.core requirements/blender.txt
+	$(PY) $(PIP) -r requirements/blender.txt
+	touch $@
+
+$(VENV45)/.blender: requirements/blender-4.5.txt
+	$(call make_venv,3.11,$(VENV45))
+	$(PY45) $(PIP) -r requirements/blender-4.5.txt
+	touch $@
+
+# Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
+test: lint test-blender-4.5
 	$(PY) -m pytest
 
 test-core: $(VENV)/.core
 	$(PY) -m pytest tests/core
 
-lint: $(VENV)/.core
+test-blender: $(VENV)/.blender
+	$(PY) -m pytest tests/blender
+
+test-blender-4.5: $(VENV45)/.blender
+	$(PY45) -m pytest tests/blender
+
+lint: $(VENV)/.blender
 	$(PY) -m ruff check .
 
+package: $(VENV)/.blender
+	$(PY) tools/package.py dist
+
+demo: $(VENV)/.blender
+	$(PY) tools/demo.py out/ocean.png
+
 clean:
-	rm -rf $(VENV) .pytest_cache .hypothesis dist out
+	rm -rf $(VENV) $(VENV45) .pytest_cache .hypothesis dist out

@@ -6,7 +6,8 @@ F is the exact unpolarised Fresnel reflectance (Eq. 1.4) for IOR 1.333, written 
 the form Blender's own Fresnel node uses (g = sqrt(eta^2 - 1 + c^2), total internal reflection
 when g^2 < 0; eta inverted on back faces, i.e. seen from under water). The sky is reflected along
 the reflection vector by a sharp glossy BSDF (the world), the sun glint is the Phong term of
-§3.4.5, max(0, R.L)^shininess, from the scene's sun lamp, and the refraction is the water colour.
+§3.4.5, max(0, R.L)^shininess, from the scene's sun lamp, and the refraction is the water colour
+(from below, the sky through Snell's window).
 The octaves the geometry left out (GridResult.shader_octaves) come back as bump detail, faded in
 where the vertices' band limit (the per-vertex `projgrid_lod` attribute) dropped them (§3.1.3).
 """
@@ -18,7 +19,7 @@ from .nodes import Graph
 
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
-VERSION = 1  # stored in the TAG property; a group of another version is rebuilt
+VERSION = 2  # stored in the TAG property; a group of another version is rebuilt
 TAG = "projgrid_ocean"
 LOD_ATTRIBUTE = "projgrid_lod"
 
@@ -106,7 +107,14 @@ def _build(group):
     sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0,
                                           "Normal": normal})
     reflection = g.node("ShaderNodeAddShader", {0: sky.outputs[0], 1: glint.outputs[0]})
-    refraction = g.node("ShaderNodeEmission", {"Color": i["Water Colour"], "Strength": 1.0})
+    # Refraction: the water colour seen from above; from below (back faces) the sky through
+    # Snell's window (the BSDF inverts the IOR on back faces itself).
+    body = g.node("ShaderNodeEmission", {"Color": i["Water Colour"], "Strength": 1.0})
+    window = g.node("ShaderNodeBsdfRefraction", {"Color": (1.0, 1.0, 1.0, 1.0),
+                                                  "Roughness": 0.0, "IOR": i["IOR"],
+                                                  "Normal": normal})
+    refraction = g.node("ShaderNodeMixShader", {0: geo["Backfacing"], 1: body.outputs[0],
+                                                2: window.outputs[0]})
     result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
                                             2: reflection.outputs[0]})
     g.set(out.inputs["Shader"], result.outputs[0])

@@ -111,6 +111,7 @@ WORKER = textwrap.dedent("""
     bpy.app.handlers.render_post.append(capture)
     bpy.ops.render.render(animation=True)
     np.savez(out, **seen)
+    bpy.app.handlers.render_post.remove(capture)  # bpy 4.5 hangs at exit if it is left
 """)
 
 

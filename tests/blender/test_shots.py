@@ -1,0 +1,144 @@
+"""Rendered pictures: fixed small EEVEE shots against committed references, checks that need no
+reference, and the water group's Fresnel against Blender's own Fresnel node.
+
+References live in tests/blender/reference/<blender major.minor>/ (EEVEE differs a little between
+versions). Tolerances, on linear-to-sRGB 8-bit PNGs in [0, 1]: mean absolute difference <= 0.02
+and at most 2 % of pixels off by more than 0.1 (EEVEE's noise at 4 samples and CPU/driver
+differences stay well inside; a wrong grid, a missing glint or a flipped Fresnel do not).
+Regenerate after an intended change with PROJGRID_UPDATE_REFERENCES=1.
+"""
+
+import math
+import os
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from tools.demo import default_shot, eevee_engine
+
+REFERENCE = os.path.join(os.path.dirname(__file__), "reference",
+                         "{}.{}".format(*bpy.app.version[:2]))
+MEAN_TOL = 0.02
+OUTLIER_TOL, OUTLIER_SHARE = 0.1, 0.02
+
+SHOTS = {  # name: (height, pitch, yaw) of the camera; the sun is low toward +Y
+    "horizon": (6.0, 0.0, 180.0),  # sun behind the camera: no glint
+    "looking_down": (20.0, -60.0, 180.0),
+    "sun_glint": (6.0, -6.0, 0.0),
+    "underwater_up": (-3.0, 45.0, 180.0),  # Snell's window and total internal reflection
+}
+
+
+def read(path):
+    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3]
+
+
+def render_shot(name, tmp_path):
+    height, pitch, yaw = SHOTS[name]
+    scene = bpy.context.scene
+    cam = default_shot(scene, size=(320, 180), samples=4, height=height, pitch=pitch)
+    cam.rotation_euler.z = math.radians(yaw)
+    scene.frame_set(12)
+    path = str(tmp_path / f"{name}.png")
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    return path
+
+
+def compare_with_reference(name, path):
+    ref = os.path.join(REFERENCE, f"{name}.png")
+    assert os.path.exists(ref), f"no reference {ref}: run with PROJGRID_UPDATE_REFERENCES=1"
+    diff = np.abs(read(path) - read(ref))
+    outliers = float((diff.max(axis=-1) > OUTLIER_TOL).mean())
+    assert diff.mean() <= MEAN_TOL and outliers <= OUTLIER_SHARE, (diff.mean(), outliers)
+
+
+def luminance(img):
+    return img @ np.array([0.2126, 0.7152, 0.0722])
+
+
+@pytest.mark.parametrize("name", SHOTS)
+def test_shot(name, tmp_path):
+    path = render_shot(name, tmp_path)
+    if os.environ.get("PROJGRID_UPDATE_REFERENCES"):
+        os.makedirs(REFERENCE, exist_ok=True)
+        oiio.ImageBuf(path).write(os.path.join(REFERENCE, f"{name}.png"))
+    img = luminance(read(path))
+    assert np.isfinite(img).all() and img.std() > 0.003  # a picture, not a flat colour
+    if name == "horizon":
+        rows = img.mean(axis=1)  # the horizon is the middle row at pitch 0
+        sky, water = rows[:80], rows[95:]
+        assert sky.mean() > water[-20:].mean() + 0.1  # sky above brighter than the near water
+        # Fresnel: the water brightens toward the horizon (grazing angles reflect more sky).
+        bands = water.reshape(-1, 17).mean(axis=1)[::-1]  # from the bottom up
+        assert np.all(np.diff(bands) > 0), bands
+    if name == "underwater_up":  # the sky through Snell's window, brighter than the TIR
+        assert img[:40].mean() > 1.2 * img[-40:].mean()  # display (sRGB) values
+    if name == "sun_glint":
+        # the glint: the brightest water pixels are far brighter than the water around them
+        water = img[110:]
+        assert np.percentile(water, 99.5) > 2.0 * np.median(water)
+    compare_with_reference(name, path)
+
+
+FRESNEL = {"outside": ((0.0, -6.0, 0.0), (90.0, 0.0, 0.0)),  # sees front faces
+           # sees back faces (as from under water), near the wall and along it: grazing angles
+           "inside": ((0.0, -1.8, 0.0), (90.0, 0.0, -90.0))}
+
+
+@pytest.mark.parametrize("view", FRESNEL)
+def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
+    """Red = our group's Fresnel, green = Blender's Fresnel node at IOR 1.333 with the same
+    normal, rendered as emission by EEVEE (one sample, so both at the pixel centre) to float
+    EXR. (Cycles' Fresnel node also bends smooth normals toward valid reflections, so it is not
+    the plain Eq. 1.4 there.)"""
+    water = extension.shaders.water
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=2.0, segments=64, ring_count=32)
+    sphere = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    mat = bpy.data.materials.new("Fresnel Test")
+    if mat.node_tree is None:
+        mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    group = nodes.new("ShaderNodeGroup")
+    group.node_tree = water.node_group()
+    theirs = nodes.new("ShaderNodeFresnel")
+    theirs.inputs["IOR"].default_value = 1.333
+    combine = nodes.new("ShaderNodeCombineColor")
+    links.new(group.outputs["Fresnel"], combine.inputs[0])
+    links.new(theirs.outputs[0], combine.inputs[1])
+    emission = nodes.new("ShaderNodeEmission")
+    links.new(combine.outputs[0], emission.inputs["Color"])
+    out = nodes.new("ShaderNodeOutputMaterial")
+    links.new(emission.outputs[0], out.inputs["Surface"])
+    sphere.data.materials.append(mat)
+
+    location, rotation = FRESNEL[view]
+    data = bpy.data.cameras.new("Camera")
+    data.lens = 12.0 if view == "inside" else 50.0  # inside: wide, for grazing angles
+    cam = bpy.data.objects.new("Camera", data)
+    cam.location, cam.rotation_euler = location, np.radians(rotation)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    r = scene.render
+    r.engine = eevee_engine()
+    scene.eevee.taa_render_samples = 1
+    r.resolution_x = r.resolution_y = 48
+    r.film_transparent = True
+    r.image_settings.file_format = "OPEN_EXR"
+    r.image_settings.color_depth = "32"
+    r.filepath = str(tmp_path / "fresnel.exr")
+    bpy.ops.render.render(write_still=True)
+    px = oiio.ImageBuf(r.filepath).get_pixels(oiio.FLOAT)
+    hit = px[..., 3] > 0.999
+    ours, blenders = px[..., 0][hit], px[..., 1][hit]
+    assert hit.mean() > 0.2
+    assert np.abs(ours - blenders).max() < 1e-3  # EEVEE's film keeps half floats (2^-11)
+    if view == "outside":  # Schlick would differ by up to ~0.01 over these angles
+        assert blenders.min() < 0.03 and blenders.max() > 0.3
+    else:  # total internal reflection outside Snell's window
+        assert (blenders > 0.999).mean() > 0.05 and blenders.min() < 0.1
