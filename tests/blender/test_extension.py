@@ -108,6 +108,21 @@ def test_frame_change_rebuilds_and_frames_are_independent():
     assert np.array_equal(positions(obj.data), at5)
 
 
+def test_edits_between_frames_rebuild_the_viewport_grid():
+    scene = bpy.context.scene
+    cam = add_camera(scene)
+    obj = add_ocean()
+    before = positions(obj.data).copy()
+    cam.location.x += 3.0
+    bpy.context.view_layer.update()  # what the viewport does after an edit
+    moved = positions(obj.data).copy()
+    assert np.allclose(moved[:, 0] - before[:, 0], 3.0, atol=1e-3)
+    obj.location.z = 2.0  # a new water level, 4 m below the camera instead of 6: a closer grid
+    bpy.context.view_layer.update()
+    near_edge = positions(obj.data)[:65, 1]
+    assert np.all(near_edge < moved[:65, 1] - 1.0)
+
+
 def test_not_in_view_gives_an_empty_mesh(bridge):
     scene = bpy.context.scene
     cam = add_camera(scene, rotation=(180.0, 0.0, 0.0))  # straight up from 6 m

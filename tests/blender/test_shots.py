@@ -142,3 +142,22 @@ def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
         assert blenders.min() < 0.03 and blenders.max() > 0.3
     else:  # total internal reflection outside Snell's window
         assert (blenders > 0.999).mean() > 0.05 and blenders.min() < 0.1
+
+
+def test_cycles_gives_a_sensible_image(tmp_path):
+    """The same group in Cycles: sky above brighter than the near water, the water neither black
+    nor blown out, and the water brightening toward the horizon."""
+    scene = bpy.context.scene
+    cam = default_shot(scene, size=(160, 90), height=6.0, pitch=0.0)
+    cam.rotation_euler.z = math.radians(180.0)  # the sun behind
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 8
+    scene.cycles.device = "CPU"
+    scene.frame_set(12)
+    scene.render.filepath = str(tmp_path / "cycles.png")
+    bpy.ops.render.render(write_still=True)
+    rows = luminance(read(scene.render.filepath)).mean(axis=1)
+    sky, water = rows[:40], rows[48:]
+    assert sky.mean() > water[-10:].mean() + 0.1
+    assert 0.05 < water.mean() < 0.9
+    assert water[:10].mean() > water[-10:].mean()
