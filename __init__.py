@@ -1,17 +1,23 @@
-"""Projected Grid Ocean: Blender extension entry point (register and unregister only)."""
+"""Projected Grid Ocean: Blender extension entry point (register and unregister only).
 
-from . import operators, panels
-from .projgrid_addon import bridge, handlers
+The submodules are imported in register(), not at import time: pytest imports this file as the
+package of the repository root, and the core's tests must run without bpy.
+"""
 
-# Registered in this order, unregistered in exact reverse.
-modules = (bridge, operators, panels, handlers)
+
+def _modules():
+    """Registered in this order, unregistered in exact reverse."""
+    from . import operators, panels
+    from .projgrid_addon import bridge, handlers
+
+    return (bridge, operators, panels, handlers)
 
 
 def register():
-    for module in modules:
+    for module in _modules():
         module.register()
 
 
 def unregister():
-    for module in reversed(modules):
+    for module in reversed(_modules()):
         module.unregister()

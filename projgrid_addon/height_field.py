@@ -62,6 +62,7 @@ class NoiseTiles:
         self._frame = {}
 
     def _slice(self, octave, k):
+        """A_k and B_k of an octave as one (2, texels) float32 array, cached."""
         key = (octave, k)
         hit = self._slices.get(key)
         if hit is not None:
@@ -70,21 +71,24 @@ class NoiseTiles:
         a, b = _noise.slice_terms(
             self._ix, self._iy, self._fx, self._fy, k, _noise.octave_key(self.seed, octave)
         )
-        hit = (a, b)
+        hit = np.stack([a.ravel(), b.ravel()]).astype(np.float32)
         self._slices[key] = hit
         if len(self._slices) > self._cache_slices:
             self._slices.popitem(last=False)
         return hit
 
     def texture(self, octave, z):
-        """The (size+1, size+1) float32 texture of octave `octave` at time coordinate z."""
+        """The (size+1)^2 float32 texture (flattened) of octave `octave` at time coordinate z."""
         key = (octave, z)
         tex = self._frame.get(key)
         if tex is None:
-            k, (c0, c1, c2, c3) = _noise.time_weights(np.float64(z))
-            a0, b0 = self._slice(octave, int(k))
-            a1, b1 = self._slice(octave, int(k) + 1)
-            tex = (c0 * a0 + c1 * b0 + c2 * a1 + c3 * b1).astype(np.float32).ravel()
+            k, weights = _noise.time_weights(np.float64(z))
+            c = np.array(weights, dtype=np.float32)
+            (a0, b0), (a1, b1) = self._slice(octave, int(k)), self._slice(octave, int(k) + 1)
+            tex = c[0] * a0
+            tex += c[1] * b0
+            tex += c[2] * a1
+            tex += c[3] * b1
             if len(self._frame) > 4 * MAX_OCTAVES:
                 self._frame.clear()
             self._frame[key] = tex

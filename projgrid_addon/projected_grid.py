@@ -12,7 +12,7 @@
 """
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -26,11 +26,15 @@ MAX_VERTICES = 2**25
 
 @dataclass
 class GridResult:
-    """One rebuild. Vertex arrays are row-major: index = row * resolution_x + column."""
+    """One rebuild. Vertex arrays are row-major: index = row * resolution_x + column.
+
+    `normals` are computed on first use (Blender derives its own from the faces, so the extension
+    never pays for them) from the float64 surface kept in `surface`.
+    """
 
     positions: np.ndarray  # (N, 3) float32, world space
     uv: np.ndarray  # (N, 2) float32, projector-space grid coordinates
-    normals: np.ndarray  # (N, 3) float32, unit, pointing up
+    surface: tuple  # (x, y, height above level) float64 (ny, nx) arrays, for the normals
     lod: np.ndarray  # (N,) float32, band limit per vertex (height_field.octave_weights)
     visible: bool
     efficiency: float  # share of vertices inside the camera frustum (§4.1)
@@ -38,6 +42,13 @@ class GridResult:
     projector: Projector | None
     resolution: tuple
     origin: np.ndarray  # (3,) float64: world position = origin + positions
+
+    @cached_property
+    def normals(self):
+        """(N, 3) float32 unit normals pointing up (§3.1.1 step 4)."""
+        if not self.visible:
+            return np.zeros((0, 3), np.float32)
+        return grid_normals(*self.surface)
 
 
 def check_resolution(resolution):
@@ -75,7 +86,7 @@ def grid_uv(nx, ny):
 
 def _empty(resolution, octaves, origin):
     z3 = np.zeros((0, 3), np.float32)
-    return GridResult(z3, np.zeros((0, 2), np.float32), z3.copy(), np.zeros(0, np.float32),
+    return GridResult(z3, np.zeros((0, 2), np.float32), (), np.zeros(0, np.float32),
                       False, 0.0, (octaves, 0), None, resolution, origin)
 
 
@@ -181,7 +192,6 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     positions[..., 1] = y - origin[1]
     positions[..., 2] = (level - origin[2]) + h
     positions = positions.reshape(-1, 3)
-    normals = grid_normals(x, y, h)
     inside = camera.in_frustum(positions + origin)
     if lod is None:
         lod32, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
@@ -189,5 +199,5 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
         lod32 = lod.ravel().astype(np.float32)
         first = int(np.clip(np.floor(lod.min()), 0, hf.octaves))
         shader = (first, hf.octaves - first)
-    return GridResult(positions, grid_uv(nx, ny), normals, lod32, True,
+    return GridResult(positions, grid_uv(nx, ny), (x, y, h), lod32, True,
                       float(inside.mean()), shader, projector, (nx, ny), origin)
