@@ -245,3 +245,12 @@ def test_panel_reports_live_stats(bridge):
     assert text[1].startswith("Vertex efficiency: ") and text[1].endswith("%")
     assert text[2].startswith("Last rebuild: ") and text[2].endswith(" ms")
     assert text[3].startswith("Octaves in the shader: ")
+
+
+def test_file_load_ends_the_live_preview(bridge):
+    scene = bpy.context.scene
+    add_camera(scene)
+    add_ocean()
+    bridge.LIVE_VIEW.update(view=np.eye(4), proj=np.eye(4))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    assert not bridge.LIVE_VIEW and not bridge.STATE
