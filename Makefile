@@ -7,7 +7,7 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-core test-blender test-blender-4.5 lint package demo clean
+.PHONY: test test-core test-blender test-blender-4.5 lint package demo bench clean
 
 define make_venv
 	@py="$$(tools/find-python $(1))" && test -n "$$py" || { echo "Python $(1) not found"; exit 1; }; \
@@ -21,6 +21,10 @@ $(VENV)/.core: requirements/core.txt
 
 $(VENV)/.blender: $(VENV)/.core requirements/blender.txt
 	$(PY) $(PIP) -r requirements/blender.txt
+	touch $@
+
+$(VENV)/.bench: $(VENV)/.blender requirements/bench.txt
+	$(PY) $(PIP) -r requirements/bench.txt
 	touch $@
 
 $(VENV45)/.blender: requirements/blender-4.5.txt
@@ -49,6 +53,11 @@ package: $(VENV)/.blender
 
 demo: $(VENV)/.blender
 	$(PY) tools/demo.py out/ocean.png
+
+# Benchmarks: docs/benchmarks.md and docs/bench_*.png (QUICK=1: a short smoke run;
+# ONLY=accuracy,render: re-measure those steps, keep the rest from docs/benchmarks.json).
+bench: $(VENV)/.bench
+	$(PY) -m tools.bench $(if $(QUICK),--quick) $(if $(ONLY),--only=$(ONLY))
 
 clean:
 	rm -rf $(VENV) $(VENV45) .pytest_cache .hypothesis dist out

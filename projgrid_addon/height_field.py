@@ -135,7 +135,6 @@ class HeightField:
             raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
         self.method = method
         self._tiles = shared_tiles(self.seed, texels) if method == "fast" else None
-        self._keys = [_noise.octave_key(self.seed, i) for i in range(self.octaves)]
 
     @property
     def bound(self):
@@ -178,7 +177,8 @@ class HeightField:
             ys = y.ravel()[sel] / self.wavelength(i)
             z = self.time_coordinate(i, t)
             if self._tiles is None:
-                n = _noise.noise(xs, ys, np.full(xs.shape, z), self._keys[i])
+                key = _noise.octave_key(self.seed, i)
+                n = _noise.noise(xs, ys, np.full(xs.shape, z), key)
             else:
                 n = self._tiles.sample(i, z, xs, ys)
             h.ravel()[sel] += gain * wi * n

@@ -180,7 +180,7 @@ def _set(socket, value):
     """Write only on change: every write tags the material for a depsgraph update."""
     current = socket.default_value
     if hasattr(current, "__len__"):
-        if np.allclose(tuple(current), value, rtol=0.0, atol=1e-7):
+        if all(abs(a - b) <= 1e-7 for a, b in zip(current, value, strict=True)):
             return
     elif current == value:
         return

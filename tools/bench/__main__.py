@@ -1,0 +1,101 @@
+"""`make bench`: what accuracy costs in time. Writes docs/benchmarks.md and its plots.
+
+Run from the repository root: python -m tools.bench [--quick] [--only=step,step]
+(--only re-measures those steps and keeps the rest from docs/benchmarks.json).
+Every figure is measured in this one process; timings are medians of interleaved repeats
+(`core_bench.interleaved`), so a load change on a shared machine hits all variants alike.
+"""
+
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DOCS = os.path.join(ROOT, "docs")
+
+
+RESULTS = os.path.join(DOCS, "benchmarks.json")
+
+
+def main(quick=False, only=None):
+    os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
+    sys.path.insert(0, ROOT)
+    import bpy
+
+    from tools.demo import install
+    from tools.package import build
+
+    from . import blender_bench, core_bench, report
+
+    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
+    bpy.ops.wm.read_homefile(use_empty=True)
+    started = time.time()
+    results = {}
+    steps = [
+        ("rebuild", lambda: blender_bench.rebuild_cost(
+            sizes=(17, 65, 257) if quick else (17, 65, 145, 257, 577, 1025))),
+        ("octaves", lambda: core_bench.octave_cost(repeats=3 if quick else 9)),
+        ("height_field", core_bench.height_field_paths),
+        ("precision", core_bench.precision),
+        ("efficiency", core_bench.efficiency),
+        ("accuracy", lambda: core_bench.accuracy(
+            sizes=(33, 65) if quick else (33, 65, 129, 257),
+            world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),
+            image=(48, 27) if quick else (96, 54))),
+        ("render", lambda: blender_bench.render_cost(
+            samples=(1, 4) if quick else (1, 4, 16, 64),
+            reference_samples=16 if quick else 128)),
+    ]
+    if only:  # re-measure some steps, keep the others from the last run
+        with open(RESULTS) as f:
+            results = json.load(f)
+    for name, fn in steps:
+        if only and name not in only:
+            continue
+        t = time.time()
+        results[name] = fn()
+        print(f"bench: {name} done in {time.time() - t:.0f} s", flush=True)
+    results["machine"] = machine(bpy)
+    if not only:
+        results["seconds"] = time.time() - started
+        results["command"] = "make bench" + (" QUICK=1" if quick else "")
+    else:
+        steps_again = ",".join(only)
+        results["command"] += f", then `make bench ONLY={steps_again}`"
+    with open(RESULTS, "w") as f:
+        json.dump(results, f, indent=1, default=_plain)
+    path = report.write(results, DOCS)
+    print(path)
+
+
+def machine(bpy):
+    import numpy
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            names = [line.split(":", 1)[1].strip() for line in f if line.startswith("model name")]
+        cpu = f"{names[0]} ({len(names)} logical CPUs)" if names else cpu
+    except OSError:
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                                capture_output=True, text=True).stdout.strip()
+    except OSError:
+        commit = "?"
+    return {"cpu": cpu, "os": platform.platform(), "python": platform.python_version(),
+            "blender": bpy.app.version_string, "numpy": numpy.__version__, "commit": commit}
+
+
+def _plain(value):
+    """JSON for NumPy scalars and tuples in results."""
+    return value.item() if hasattr(value, "item") else str(value)
+
+
+if __name__ == "__main__":
+    only = [a.split("=", 1)[1].split(",") for a in sys.argv if a.startswith("--only=")]
+    main(quick="--quick" in sys.argv, only=only[0] if only else None)

@@ -1,0 +1,167 @@
+"""Benchmarks inside Blender: per-frame rebuild through `scene.frame_set` for the projected grid,
+Blender's Ocean modifier and a world-space grid of the same vertex count, and EEVEE render cost."""
+
+import math
+import os
+import tempfile
+import time
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+
+from projgrid_addon import HeightField, build_grid, grid_topology
+
+from .core_bench import WAVES, interleaved
+
+# Ocean modifier viewport resolution r gives (r^2 + 1)^2 vertices: the common sizes.
+OCEAN_RES = {17: 4, 65: 8, 145: 12, 257: 16, 577: 24, 1025: 32}
+
+
+def _scene(name):
+    scene = bpy.data.scenes.new(name)
+    data = bpy.data.cameras.new(name)
+    data.clip_end = 20_000.0
+    cam = bpy.data.objects.new(name, data)
+    cam.location = (0.0, 0.0, 10.0)
+    cam.rotation_euler = (math.radians(82.0), 0.0, 0.0)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y = 1920, 1080
+    return scene
+
+
+def projected_scene(n):
+    scene = _scene(f"projected {n}")
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        bpy.ops.projgrid.add_ocean()
+    obj = next(o for o in scene.objects if o.type == "MESH")
+    obj.projgrid.resolution_x = obj.projgrid.resolution_y = n
+    return scene
+
+
+def ocean_modifier_scene(n):
+    scene = _scene(f"ocean modifier {n}")
+    obj = bpy.data.objects.new("Ocean Modifier", bpy.data.meshes.new("Ocean Modifier"))
+    scene.collection.objects.link(obj)
+    mod = obj.modifiers.new("Ocean", "OCEAN")
+    mod.viewport_resolution = OCEAN_RES[n]
+    mod.spatial_size = 200
+    mod.time = 0.0
+    mod.keyframe_insert("time", frame=1)
+    mod.time = 100.0
+    mod.keyframe_insert("time", frame=2401)  # so every frame re-evaluates the modifier
+    return scene
+
+
+WORLD_GRIDS = {}
+
+
+def world_grid_scene(n):
+    """An n x n grid in world space over the area the projected grid covers, displaced by the same
+    height field each frame (band-limited to its own spacing) through the same fast mesh path."""
+    scene = _scene(f"world grid {n}")
+    mesh = bpy.data.meshes.new("World Grid")
+    quads = grid_topology(n, n)
+    mesh.vertices.add(n * n)
+    mesh.loops.add(quads.size)
+    mesh.polygons.add(len(quads))
+    mesh.loops.foreach_set("vertex_index", quads.ravel())
+    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    obj = bpy.data.objects.new("World Grid", mesh)
+    scene.collection.objects.link(obj)
+    cam = scene.camera
+    view = np.array(cam.matrix_world.inverted())
+    proj = np.array(cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=1920,
+                                           y=1080))
+    hf = HeightField(**WAVES)
+    r = build_grid((view, proj), hf, resolution=(65, 129))
+    x, y = r.surface[0], r.surface[1]
+    gx, gy = np.meshgrid(np.linspace(x.min(), x.max(), n), np.linspace(y.min(), y.max(), n))
+    spacing = max(np.ptp(gx), np.ptp(gy)) / (n - 1)
+    WORLD_GRIDS[scene.name] = (mesh, gx, gy, np.full(gx.shape, np.log2(40.0 / (2 * spacing))))
+    return scene
+
+
+def world_grid_handler(scene, depsgraph=None):
+    entry = WORLD_GRIDS.get(scene.name)
+    if entry is None:
+        return
+    mesh, gx, gy, lod = entry
+    t = scene.frame_current / scene.render.fps
+    h = HeightField(**WAVES).heights(gx, gy, t, lod)
+    co = np.column_stack([gx.ravel(), gy.ravel(), h.ravel()]).astype(np.float32)
+    mesh.attributes["position"].data.foreach_set("vector", co.ravel())
+    mesh.update()
+
+
+def step(scene):
+    """Advance a scene by one frame (a new time: nothing can be reused from the last frame)."""
+    scene.frame_set(scene.frame_current + 1)
+
+
+def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):
+    """Per-frame time of `scene.frame_set` (camera update -> vertices in the Blender mesh)."""
+    bpy.app.handlers.frame_change_post.append(world_grid_handler)
+    rows = []
+    try:
+        for n in sizes:
+            scenes = {"projected grid": projected_scene(n),
+                      "Ocean modifier": ocean_modifier_scene(n),
+                      "world grid": world_grid_scene(n)}
+            times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()},
+                                max(3, repeats if n <= 257 else repeats // 3))
+            for kind, seconds in times.items():
+                rows.append({"n": n, "vertices": n * n, "mesh": kind, "ms": seconds * 1e3})
+            for s in scenes.values():
+                bpy.data.scenes.remove(s)
+    finally:
+        bpy.app.handlers.frame_change_post.remove(world_grid_handler)
+    return rows
+
+
+def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
+    """EEVEE on this CPU: render time and error against a high-sample reference, for the water
+    node group and for a plain glossy plane, at equal samples (the default shot)."""
+    from tools.demo import default_shot
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    default_shot(scene, size=size, samples=1)
+    scene.frame_set(12)
+    ocean = next(o for o in scene.objects if o.type == "MESH")
+    water = ocean.data.materials[0]
+    glossy = bpy.data.materials.new("Plain Glossy")
+    nodes = glossy.node_tree.nodes if glossy.node_tree else None
+    if nodes is None:
+        glossy.use_nodes = True
+        nodes = glossy.node_tree.nodes
+    nodes.clear()
+    bsdf = nodes.new("ShaderNodeBsdfGlossy")
+    bsdf.inputs["Roughness"].default_value = 0.05
+    out = nodes.new("ShaderNodeOutputMaterial")
+    glossy.node_tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    tmp = tempfile.mkdtemp(prefix="projgrid-bench-")
+
+    def render(material, n):
+        ocean.data.materials[0] = material
+        scene.eevee.taa_render_samples = n
+        scene.render.filepath = os.path.join(tmp, f"{material.name}-{n}.png")
+        start = time.perf_counter()
+        bpy.ops.render.render(write_still=True)
+        seconds = time.perf_counter() - start
+        return seconds, oiio.ImageBuf(scene.render.filepath).get_pixels(oiio.FLOAT)[..., :3]
+
+    render(water, 1)  # shader compilation, not counted
+    render(glossy, 1)
+    rows = []
+    for material in (water, glossy):
+        _, ref = render(material, reference_samples)
+        for n in samples:
+            seconds, img = render(material, n)
+            rows.append({"material": "water group" if material is water else "plain glossy",
+                         "samples": n, "seconds": seconds,
+                         "rms_error": float(np.sqrt(np.mean((img - ref) ** 2)))})
+    ocean.data.materials[0] = water
+    return rows
