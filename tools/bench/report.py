@@ -131,11 +131,11 @@ def write(results, docs):
                     if r["shot"] == shot and r["mesh"] == "projected grid")
         wg = sorted((r["ms"], r["px_mean"]) for r in acc
                     if r["shot"] == shot and r["mesh"] == "world grid")
-        for ms, err in pg:  # world grid error at the same time, log-log interpolated
-            if wg[0][0] <= ms <= wg[-1][0]:
-                w = np.exp(np.interp(np.log(ms), np.log([t for t, _ in wg]),
-                                     np.log([e for _, e in wg])))
-                factors.append((shot, ms, w / err))
+        # The world grid's best error within the same time budget (its Pareto front).
+        shot_factors = [min(e for t, e in wg if t <= ms) / err for ms, err in pg
+                        if any(t <= ms for t, _ in wg)]
+        if shot_factors:
+            factors.append((shot, float(np.median(shot_factors))))
     np.atleast_1d(axes)[0].set_ylabel("mean screen error, px of 1920×1080")
     np.atleast_1d(axes)[0].legend(fontsize=8)
     fig.tight_layout()
@@ -155,12 +155,13 @@ def write(results, docs):
                         ("along ray m", "along_ray_m", ".3f"), ("missed", "missed", ".1%")]),
            ""]
     if factors:
-        median_factor = float(np.median([f for *_, f in factors]))
-        md += ["At equal rebuild time the world grid's mean screen error is " +
-               ", ".join(f"{f:.1f}× ({s}, {ms:.1f} ms)" for s, ms, f in factors) +
-               f" the projected grid's: median {median_factor:.1f}×.", ""]
+        median_factor = float(np.median([f for _, f in factors]))
+        md += ["Within the same rebuild time budget, the best world grid's mean screen error is "
+               + ", ".join(f"{f:.1f}× ({s})" for s, f in factors) +
+               " the projected grid's (median over each shot's grid sizes); median over shots "
+               f"{median_factor:.1f}×. Looking straight down the two grids are the same mesh.", ""]
         targets.append(("At equal time, projected-grid screen error well below the world grid's",
-                        f"median factor {median_factor:.1f}", median_factor >= 2.0))
+                        f"{median_factor:.1f}× lower (median over shots)", median_factor >= 2.0))
 
     # 3. height field
     hfr = results["height_field"]
