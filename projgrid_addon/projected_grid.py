@@ -192,7 +192,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     positions[..., 1] = y - origin[1]
     positions[..., 2] = (level - origin[2]) + h
     positions = positions.reshape(-1, 3)
-    inside = camera.in_frustum(positions + origin)
+    inside = camera.in_frustum(positions, origin)
     if lod is None:
         lod32, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
     else:
