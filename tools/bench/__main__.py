@@ -63,9 +63,9 @@ def main(quick=False, only=None):
     if not only:
         results["seconds"] = time.time() - started
         results["command"] = "make bench" + (" QUICK=1" if quick else "")
+        results["remeasured"] = []
     else:
-        steps_again = ",".join(only)
-        results["command"] += f", then `make bench ONLY={steps_again}`"
+        results["remeasured"] = sorted(set(results.get("remeasured", [])) | set(only))
     with open(RESULTS, "w") as f:
         json.dump(results, f, indent=1, default=_plain)
     path = report.write(results, DOCS)
