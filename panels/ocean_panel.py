@@ -57,6 +57,7 @@ class VIEW3D_PT_projgrid_ocean(bpy.types.Panel):
         col.prop(s, "speed")
         col.prop(s, "seed")
         layout.prop(s, "projector_elevation")
+        layout.prop(s, "noise")
         col = layout.column(align=True)
         col.label(text="Viewport grid")
         col.prop(s, "resolution_x", text="X")

@@ -8,7 +8,7 @@ import time
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
 from ..shaders import water
 from . import Camera, HeightField, build_grid, grid_topology, grid_uv
@@ -28,9 +28,10 @@ LIVE_VIEW = {}
 
 
 def _settings_changed(self, context):
+    """Rebuild at once with the values just set (the evaluated copy is updated only later)."""
     obj = self.id_data
     if context.scene is not None and obj.name in context.scene.objects:
-        update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
+        update_ocean(obj, context.scene, context.evaluated_depsgraph_get(), settings=self)
 
 
 def _int(name, description, default, lo, hi, soft_hi=None):
@@ -67,13 +68,19 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     seed: _int("Seed", "Noise seed", 0, 0, 2**31 - 1, 1000)
     projector_elevation: _float("Projector Elevation", "Extra height of the projector above "
                                 "the waves (thesis §2.5)", 0.0, 0.0, 1e4, 100.0, "LENGTH")
+    noise: EnumProperty(
+        name="Noise", default="FAST", update=_settings_changed,
+        description="How heights are evaluated (docs/benchmarks.md has the cost and the error)",
+        items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
+               ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
 
 
 def height_field(settings):
     """The core HeightField for (possibly evaluated) settings."""
     return HeightField(amplitude=settings.amplitude, wave_scale=settings.wave_scale,
                        octaves=settings.octaves, roughness=settings.roughness,
-                       speed=settings.speed, seed=settings.seed)
+                       speed=settings.speed, seed=settings.seed,
+                       method=settings.noise.lower())
 
 
 def ocean_objects(scene):
@@ -112,12 +119,13 @@ def scene_time(scene):
     return (scene.frame_current + scene.frame_subframe) * r.fps_base / r.fps
 
 
-def update_ocean(obj, scene, depsgraph, render=None, view=None):
+def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
     """Rebuild `obj`'s grid for the current frame; returns the refusal message or None.
 
     `render` defaults to whether `depsgraph` is a render depsgraph: renders use the render camera
     and resolution, the viewport the live preview's view if one runs, else the scene camera.
-    Settings are read from the evaluated object, so animated values are honoured in renders.
+    Settings are read from the evaluated object, so animated values are honoured in renders,
+    unless `settings` are given (a settings edit passes the values just set).
     """
     state = STATE.setdefault(obj.name_full, {})
     if render is None:
@@ -127,7 +135,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None):
                        "(Add Ocean makes a new one)")
     mesh = obj.data
     obj_eval = obj.evaluated_get(depsgraph)
-    settings = obj_eval.projgrid
+    settings = settings or obj_eval.projgrid
     try:
         if render:
             res = (settings.render_resolution_x, settings.render_resolution_y)
@@ -164,7 +172,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None):
 
 SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
             "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-            "projector_elevation")
+            "projector_elevation", "noise")
 
 
 def _refuse(state, mesh, message):

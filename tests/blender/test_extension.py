@@ -96,6 +96,18 @@ def test_settings_rebuild_and_are_honoured(bridge):
     assert np.abs(positions(obj.data)[:, 2]).max() > 0.1
 
 
+def test_exact_noise_setting():
+    """Exact noise gives the reference heights: close to the fast path's, not equal."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    fast = positions(obj.data)[:, 2].copy()
+    obj.projgrid.noise = "EXACT"
+    exact = positions(obj.data)[:, 2]
+    diff = np.abs(exact - fast).max()
+    assert 0.0 < diff < 0.1 * obj.projgrid.amplitude * 2.0
+
+
 def test_frame_change_rebuilds_and_frames_are_independent():
     scene = bpy.context.scene
     add_camera(scene)

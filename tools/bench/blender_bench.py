@@ -31,12 +31,13 @@ def _scene(name):
     return scene
 
 
-def projected_scene(n):
-    scene = _scene(f"projected {n}")
+def projected_scene(n, noise="FAST"):
+    scene = _scene(f"projected {n} {noise}")
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
         bpy.ops.projgrid.add_ocean()
     obj = next(o for o in scene.objects if o.type == "MESH")
     obj.projgrid.resolution_x = obj.projgrid.resolution_y = n
+    obj.projgrid.noise = noise
     return scene
 
 
@@ -108,6 +109,7 @@ def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):
     try:
         for n in sizes:
             scenes = {"projected grid": projected_scene(n),
+                      "projected grid, exact noise": projected_scene(n, "EXACT"),
                       "Ocean modifier": ocean_modifier_scene(n),
                       "world grid": world_grid_scene(n)}
             times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()},
