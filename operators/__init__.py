@@ -7,12 +7,5 @@ from .live_preview import PROJGRID_OT_live_preview
 
 classes = (PROJGRID_OT_add_ocean, PROJGRID_OT_live_preview)
 
-
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+# Registers in order and unregisters in exact reverse.
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -6,12 +6,5 @@ from .ocean_panel import VIEW3D_PT_projgrid_ocean
 
 classes = (VIEW3D_PT_projgrid_ocean,)
 
-
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+# Registers in order and unregisters in exact reverse.
+register, unregister = bpy.utils.register_classes_factory(classes)

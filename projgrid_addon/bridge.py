@@ -221,18 +221,17 @@ def write_mesh(mesh, result, to_local):
 
 
 classes = (ProjectedGridSettings,)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
 def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    _register_classes()
     bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings)
 
 
 def unregister():
     del bpy.types.Object.projgrid
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    _unregister_classes()
     STATE.clear()
     LIVE_VIEW.clear()
     RENDERING["active"] = False
