@@ -11,11 +11,10 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
 from ..shaders import water
+from ..shaders.nodes import TAG
 from . import Camera, HeightField, build_grid, grid_topology, grid_uv
 from .projected_grid import check_resolution
 
-TAG = "projgrid_ocean"  # ID property marking the mesh and material we own
-LOD_ATTRIBUTE = "projgrid_lod"
 UV_MAP = "ProjectorUV"
 
 # Per-object runtime state, keyed by the object's name_full: stats for the panel, the message of
@@ -149,7 +148,6 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         linear = world[:3, :3]
         if abs(np.linalg.det(linear)) < 1e-12:
             raise ValueError("the ocean object's scale is zero")
-        hf = height_field(settings)
         t = scene_time(scene)
         key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
                world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
@@ -157,6 +155,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         if key == state.get("key"):
             return None
         start = time.perf_counter()
+        hf = height_field(settings)
         result = build_grid(Camera(*camera), hf, level=world[2, 3], time=t, resolution=res,
                             projector_elevation=settings.projector_elevation,
                             origin=world[:3, 3])
@@ -196,8 +195,8 @@ def set_topology(mesh, nx, ny):
     mesh.update(calc_edges=True)
     uv = mesh.uv_layers.new(name=UV_MAP)
     uv.data.foreach_set("uv", grid_uv(nx, ny)[quads.ravel()].ravel())
-    if LOD_ATTRIBUTE not in mesh.attributes:
-        mesh.attributes.new(LOD_ATTRIBUTE, "FLOAT", "POINT")
+    if water.LOD_ATTRIBUTE not in mesh.attributes:
+        mesh.attributes.new(water.LOD_ATTRIBUTE, "FLOAT", "POINT")
 
 
 def write_mesh(mesh, result, to_local):
@@ -215,7 +214,7 @@ def write_mesh(mesh, result, to_local):
         positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
     mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
     lod = np.minimum(result.lod, 64.0).astype(np.float32)  # finite for the shader
-    mesh.attributes[LOD_ATTRIBUTE].data.foreach_set("value", lod)
+    mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set("value", lod)
     mesh.update()
     mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path
 

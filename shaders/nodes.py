@@ -1,5 +1,16 @@
-"""A small helper for building shader node trees from code: each call adds a node, links the
+"""Helpers for building shader node trees from code: `Graph` adds a node per call, links the
 inputs that are sockets and sets the ones that are values, and returns the output socket."""
+
+TAG = "projgrid_ocean"  # ID property marking the data this extension made (never the user's)
+
+
+def empty_tree(id_block):
+    """The node tree of a new material or world, emptied (nodes are switched on first before
+    Blender 5.0; from 5.0 every material and world has them)."""
+    if id_block.node_tree is None:
+        id_block.use_nodes = True
+    id_block.node_tree.nodes.clear()
+    return id_block.node_tree
 
 
 def socket(sockets, key):

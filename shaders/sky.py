@@ -8,11 +8,10 @@ import math
 
 import bpy
 
-from .nodes import Graph
+from .nodes import TAG, Graph, empty_tree
 
 WORLD = "Projected Grid Sky"
 SUN = "Projected Grid Sun"
-TAG = "projgrid_ocean"
 # (position on the ramp from z = -0.1 to z = 1, linear colour)
 GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
             (1.0, (0.08, 0.20, 0.55)))
@@ -21,10 +20,7 @@ GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28,
 def world():
     w = bpy.data.worlds.new(WORLD)
     w[TAG] = True
-    if w.node_tree is None:  # Blender < 5.0 (from 5.0 every world has nodes)
-        w.use_nodes = True
-    w.node_tree.nodes.clear()
-    g = Graph(w.node_tree)
+    g = Graph(empty_tree(w))
     direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
     z = g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"]
     t = g.node("ShaderNodeMapRange", {0: z, 1: -0.1, 2: 1.0, 3: 0.0, 4: 1.0}).outputs[0]

@@ -15,13 +15,12 @@ where the vertices' band limit (the per-vertex `projgrid_lod` attribute) dropped
 import bpy
 import numpy as np
 
-from .nodes import Graph
+from .nodes import TAG, Graph, empty_tree
 
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
 VERSION = 2  # stored in the TAG property; a group of another version is rebuilt
-TAG = "projgrid_ocean"
-LOD_ATTRIBUTE = "projgrid_lod"
+LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 
 INPUTS = (  # name, socket type, default; the last group is written by the frame handler
     ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
@@ -128,10 +127,7 @@ def material():
         return mat
     mat = bpy.data.materials.new(MATERIAL)
     mat[TAG] = True
-    if mat.node_tree is None:  # Blender < 5.0 (from 5.0 every material has nodes)
-        mat.use_nodes = True
-    nodes = mat.node_tree.nodes
-    nodes.clear()
+    nodes = empty_tree(mat).nodes
     group = nodes.new("ShaderNodeGroup")
     group.node_tree = node_group()
     group.name = GROUP

@@ -100,10 +100,8 @@ def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
     sphere = bpy.context.active_object
     bpy.ops.object.shade_smooth()
     mat = bpy.data.materials.new("Fresnel Test")
-    if mat.node_tree is None:
-        mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    nodes.clear()
+    tree = extension.shaders.nodes.empty_tree(mat)
+    nodes, links = tree.nodes, tree.links
     group = nodes.new("ShaderNodeGroup")
     group.node_tree = water.node_group()
     theirs = nodes.new("ShaderNodeFresnel")
