@@ -62,7 +62,7 @@ class NoiseTiles:
         self._frame = {}
 
     def _slice(self, octave, k):
-        """A_k and B_k of an octave as one (2, texels) float32 array, cached."""
+        """A_k and B_k of an octave as one (2, (size+1)^2) float32 array, cached."""
         key = (octave, k)
         hit = self._slices.get(key)
         if hit is not None:

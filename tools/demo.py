@@ -30,19 +30,28 @@ def eevee_engine():
     return "BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in items else "BLENDER_EEVEE"
 
 
+def add_camera(scene, location=(0.0, 0.0, 6.0), rotation=(84.0, 0.0, 0.0), lens=50.0):
+    """A camera (clip 0.1 m to 20 km) as the scene camera; rotation in degrees (XYZ Euler:
+    (90, 0, 0) looks along +Y, level)."""
+    import bpy
+
+    data = bpy.data.cameras.new("Camera")
+    data.lens = lens
+    data.clip_start, data.clip_end = 0.1, 20_000.0
+    cam = bpy.data.objects.new("Camera", data)
+    cam.location = location
+    cam.rotation_euler = [math.radians(a) for a in rotation]
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    return cam
+
+
 def default_shot(scene, size=(960, 540), samples=16, height=6.0, pitch=-6.0):
     """The default shot: a camera `height` m above the water looking along +Y, EEVEE settings,
     then Add Ocean (which adds the sky and the sun, low ahead of the camera, for the glint)."""
     import bpy
 
-    data = bpy.data.cameras.new("Camera")
-    data.lens = 35.0
-    data.clip_start, data.clip_end = 0.1, 20_000.0
-    cam = bpy.data.objects.new("Camera", data)
-    cam.location = (0.0, 0.0, height)
-    cam.rotation_euler = (math.radians(90.0 + pitch), 0.0, 0.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cam = add_camera(scene, (0.0, 0.0, height), (90.0 + pitch, 0.0, 0.0), lens=35.0)
     r = scene.render
     r.engine = eevee_engine()
     r.resolution_x, r.resolution_y = size

@@ -3,23 +3,15 @@
 import bpy
 import numpy as np
 
+from tools.demo import add_camera
+
+__all__ = ["RenderCapture", "add_camera", "add_ocean", "positions"]
+
 
 def positions(mesh):
     co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     mesh.attributes["position"].data.foreach_get("vector", co)
     return co.reshape(-1, 3)
-
-
-def add_camera(scene, location=(0.0, 0.0, 6.0), rotation=(84.0, 0.0, 0.0), kind="PERSP"):
-    data = bpy.data.cameras.new("Camera")
-    data.type = kind
-    data.clip_end = 20_000.0
-    cam = bpy.data.objects.new("Camera", data)
-    cam.location = location
-    cam.rotation_euler = np.radians(rotation)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    return cam
 
 
 def add_ocean():

@@ -16,6 +16,8 @@ import bpy
 import numpy as np
 import pytest
 
+from tools.package import ROOT
+
 from .conftest import USER
 from .helpers import RenderCapture, add_camera, add_ocean, positions
 
@@ -97,17 +99,16 @@ WORKER = textwrap.dedent("""
     import sys
     import bpy
     import numpy as np
-    blend, first, last, out = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+    blend, first, last, out, root = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), *sys.argv[4:]
+    sys.path.insert(0, root)
+    from tests.blender.helpers import positions
     bpy.ops.wm.read_userpref()  # the blender binary loads these at startup; bpy as a module not
     bpy.ops.wm.open_mainfile(filepath=blend)
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = first, last
     seen = {}
     def capture(scene, _=None):
-        mesh = bpy.data.objects["Ocean"].data
-        co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-        mesh.attributes["position"].data.foreach_get("vector", co)
-        seen[str(scene.frame_current)] = co.reshape(-1, 3)
+        seen[str(scene.frame_current)] = positions(bpy.data.objects["Ocean"].data).copy()
     bpy.app.handlers.render_post.append(capture)
     bpy.ops.render.render(animation=True)
     np.savez(out, **seen)
@@ -126,7 +127,7 @@ def test_saved_file_rendered_in_a_fresh_background_process(animated, bridge, tmp
     bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
     out = str(tmp_path / "seen.npz")
     env = {**os.environ, "BLENDER_USER_RESOURCES": USER}
-    done = subprocess.run([sys.executable, "-c", WORKER, blend, *map(str, frames), out],
+    done = subprocess.run([sys.executable, "-c", WORKER, blend, *map(str, frames), out, ROOT],
                           env=env, capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     seen = np.load(out)

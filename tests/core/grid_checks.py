@@ -1,6 +1,5 @@
 """Camera poses and the properties every grid must have (used by the stability suite)."""
 
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -8,8 +7,6 @@ import numpy as np
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
 from projgrid_addon.camera import orthographic, perspective
 from projgrid_addon.projector import heading_vector
-
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 @dataclass

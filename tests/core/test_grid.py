@@ -15,8 +15,7 @@ from projgrid_addon import (
     perspective,
     snapped_origin,
 )
-
-from .grid_checks import ROOT
+from tools.package import ROOT
 
 CAM = (look_at((0, 0, 10), (0, 100, 5)), perspective(np.radians(50), 16 / 9, 0.1, 1e4))
 

@@ -14,7 +14,8 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from tools.package import ROOT
+
 DOCS = os.path.join(ROOT, "docs")
 
 
@@ -23,7 +24,6 @@ RESULTS = os.path.join(DOCS, "benchmarks.json")
 
 def main(quick=False, only=None):
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
-    sys.path.insert(0, ROOT)
     import bpy
 
     from tools.demo import install

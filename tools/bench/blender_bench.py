@@ -1,7 +1,7 @@
 """Benchmarks inside Blender: per-frame rebuild through `scene.frame_set` for the projected grid,
 Blender's Ocean modifier and a world-space grid of the same vertex count, and EEVEE render cost."""
 
-import math
+import importlib
 import os
 import tempfile
 import time
@@ -10,23 +10,23 @@ import bpy
 import numpy as np
 import OpenImageIO as oiio
 
-from projgrid_addon import HeightField, build_grid, grid_topology
+from projgrid_addon import Camera, HeightField
+from tools.demo import MODULE, add_camera
 
-from .core_bench import WAVES, interleaved
+from .core_bench import WAVES, interleaved, visible_extent, world_grid_points
 
 # Ocean modifier viewport resolution r gives (r^2 + 1)^2 vertices: the common sizes.
 OCEAN_RES = {17: 4, 65: 8, 145: 12, 257: 16, 577: 24, 1025: 32}
 
 
+def extension():
+    """The installed extension's package (installed by tools.bench before any step runs)."""
+    return importlib.import_module(MODULE)
+
+
 def _scene(name):
     scene = bpy.data.scenes.new(name)
-    data = bpy.data.cameras.new(name)
-    data.clip_end = 20_000.0
-    cam = bpy.data.objects.new(name, data)
-    cam.location = (0.0, 0.0, 10.0)
-    cam.rotation_euler = (math.radians(82.0), 0.0, 0.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    add_camera(scene, (0.0, 0.0, 10.0), (82.0, 0.0, 0.0))
     scene.render.resolution_x, scene.render.resolution_y = 1920, 1080
     return scene
 
@@ -62,26 +62,15 @@ def world_grid_scene(n):
     """An n x n grid in world space over the area the projected grid covers, displaced by the same
     height field each frame (band-limited to its own spacing) through the same fast mesh path."""
     scene = _scene(f"world grid {n}")
+    bridge = extension().projgrid_addon.bridge
     mesh = bpy.data.meshes.new("World Grid")
-    quads = grid_topology(n, n)
-    mesh.vertices.add(n * n)
-    mesh.loops.add(quads.size)
-    mesh.polygons.add(len(quads))
-    mesh.loops.foreach_set("vertex_index", quads.ravel())
-    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
-    mesh.update(calc_edges=True)
+    bridge.set_topology(mesh, n, n)
     obj = bpy.data.objects.new("World Grid", mesh)
     scene.collection.objects.link(obj)
-    cam = scene.camera
-    view = np.array(cam.matrix_world.inverted())
-    proj = np.array(cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=1920,
-                                           y=1080))
-    hf = HeightField(**WAVES)
-    r = build_grid((view, proj), hf, resolution=(65, 129))
-    x, y = r.surface[0], r.surface[1]
-    gx, gy = np.meshgrid(np.linspace(x.min(), x.max(), n), np.linspace(y.min(), y.max(), n))
-    spacing = max(np.ptp(gx), np.ptp(gy)) / (n - 1)
-    WORLD_GRIDS[scene.name] = (mesh, gx, gy, np.full(gx.shape, np.log2(40.0 / (2 * spacing))))
+    depsgraph = scene.view_layers[0].depsgraph
+    extent = visible_extent(Camera(*bridge.camera_for(scene, depsgraph, render=False)),
+                            HeightField(**WAVES))
+    WORLD_GRIDS[scene.name] = (mesh, *world_grid_points(n, extent, WAVES["wave_scale"]))
     return scene
 
 
@@ -135,15 +124,11 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
     ocean = next(o for o in scene.objects if o.type == "MESH")
     water = ocean.data.materials[0]
     glossy = bpy.data.materials.new("Plain Glossy")
-    nodes = glossy.node_tree.nodes if glossy.node_tree else None
-    if nodes is None:
-        glossy.use_nodes = True
-        nodes = glossy.node_tree.nodes
-    nodes.clear()
-    bsdf = nodes.new("ShaderNodeBsdfGlossy")
+    tree = extension().shaders.nodes.empty_tree(glossy)
+    bsdf = tree.nodes.new("ShaderNodeBsdfGlossy")
     bsdf.inputs["Roughness"].default_value = 0.05
-    out = nodes.new("ShaderNodeOutputMaterial")
-    glossy.node_tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
     tmp = tempfile.mkdtemp(prefix="projgrid-bench-")
 
     def render(material, n):

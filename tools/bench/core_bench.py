@@ -204,12 +204,24 @@ def screen_error(cam, points, hf, t_time):
     return np.linalg.norm(px[0] - px[1], axis=1), np.abs(points[:, 2] - true[:, 2])
 
 
-def world_grid(cam, n, hf, t_time, extent):
-    """An n x n world-space grid over `extent` = (x0, x1, y0, y1), band-limited to its spacing."""
+def visible_extent(cam, hf):
+    """(x0, x1, y0, y1): the area of the water the camera sees (the projected grid's)."""
+    x, y = build_grid(cam, hf, resolution=(65, 129)).surface[:2]
+    return x.min(), x.max(), y.min(), y.max()
+
+
+def world_grid_points(n, extent, wave_scale):
+    """x, y of an n x n world-space grid over `extent` = (x0, x1, y0, y1), and its band limit
+    (one level of detail from its spacing, as `octave_weights` takes it)."""
     x0, x1, y0, y1 = extent
     x, y = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
     spacing = max((x1 - x0), (y1 - y0)) / (n - 1)
-    lod = np.full(x.shape, np.log2(hf.wave_scale / (2.0 * spacing)))
+    return x, y, np.full(x.shape, np.log2(wave_scale / (2.0 * spacing)))
+
+
+def world_grid(n, hf, t_time, extent):
+    """An n x n displaced world-space grid: (positions, quads)."""
+    x, y, lod = world_grid_points(n, extent, hf.wave_scale)
     h = hf.heights(x, y, t_time, lod)
     return np.column_stack([x.ravel(), y.ravel(), h.ravel()]), grid_topology(n, n)
 
@@ -221,8 +233,8 @@ def candidate_meshes(cam, hf, t_time, n, extent, tile):
         "projected grid": (lambda: build_grid(cam, hf, time=t_time, resolution=res),
                            lambda r: (r.positions.astype(np.float64) + r.origin,
                                       grid_topology(n, n))),
-        "world grid": (lambda: world_grid(cam, n, hf, t_time, extent), lambda r: r),
-        "fixed tile": (lambda: world_grid(cam, n, hf, t_time,
+        "world grid": (lambda: world_grid(n, hf, t_time, extent), lambda r: r),
+        "fixed tile": (lambda: world_grid(n, hf, t_time,
                                           (-tile / 2, tile / 2, -tile / 2, tile / 2)),
                        lambda r: r),
     }
@@ -242,8 +254,7 @@ def accuracy(sizes=(33, 65, 129, 257), world_sizes=(33, 65, 129, 257, 513), imag
         cam = camera(height, pitch, fov)
         origins, dirs, reach = pixel_rays(cam, image)
         t_true = march_exact(exact, origins, dirs, reach, t_time)
-        xs, ys = build_grid(cam, hf, time=t_time, resolution=(65, 129)).surface[:2]
-        extent = (xs.min(), xs.max(), ys.min(), ys.max())  # the visible area
+        extent = visible_extent(cam, hf)
         for n in sorted(set(sizes) | set(world_sizes)):
             meshes = {k: v for k, v in candidate_meshes(cam, hf, t_time, n, extent, tile).items()
                       if n in (sizes if k == "projected grid" else world_sizes)}

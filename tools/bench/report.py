@@ -27,6 +27,24 @@ def _table(rows, columns):
     return "\n".join(out)
 
 
+def _finish(ax, xlabel, ylabel, legend_size=None):
+    """Labels, grid (minor lines too on log axes) and legend of one plot."""
+    ax.set_xlabel(xlabel)
+    if ylabel:
+        ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    if legend_size is not None:
+        ax.legend(fontsize=legend_size)
+
+
+def _save(fig, docs, name):
+    """Lay out and write docs/<name>.png, free the figure; returns its Markdown image line."""
+    fig.tight_layout()
+    fig.savefig(os.path.join(docs, f"{name}.png"), dpi=110)
+    _plt().close(fig)
+    return f"![{name.removeprefix('bench_')}]({name}.png)"
+
+
 def _loglog_slope(x, y):
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
@@ -53,14 +71,9 @@ def write(results, docs):
     fig, ax = plt.subplots(figsize=(6, 4))
     for k in kinds:
         ax.loglog([n * n for n in sizes], [by[k, n] for n in sizes], "o-", label=k)
-    ax.set_xlabel("vertices")
-    ax.set_ylabel("ms per frame (scene.frame_set)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _finish(ax, "vertices", "ms per frame (scene.frame_set)", legend_size="medium")
     ax.set_title("Per-frame rebuild cost in Blender")
-    fig.tight_layout()
-    fig.savefig(os.path.join(docs, "bench_rebuild.png"), dpi=110)
-    plt.close(fig)
+    rebuild_png = _save(fig, docs, "bench_rebuild")
     rows = [{"n": f"{n}²", "v": n * n, **{k: by[k, n] for k in kinds},
              "ratio": by["projected grid", n] / by["Ocean modifier", n]} for n in sizes]
     slopes = {k: _loglog_slope([n * n for n in sizes], [by[k, n] for n in sizes]) for k in kinds}
@@ -71,7 +84,7 @@ def write(results, docs):
            "every frame re-evaluates it (viewport resolution r gives (r²+1)² vertices); the world "
            "grid covers the area the projected grid covers, displaced by the same height field "
            "through the same mesh path.", "",
-           "![rebuild](bench_rebuild.png)", "",
+           rebuild_png, "",
            _table(rows, [("grid", "n", ""), ("vertices", "v", ","),
                          *[(f"{k} ms", k, ".2f") for k in kinds],
                          ("projected / Ocean modifier", "ratio", ".2f")]), "",
@@ -105,15 +118,9 @@ def write(results, docs):
     octs = sorted({r["octaves"] for r in oc})
     md += ["| grid | path | " + " | ".join(f"{o} oct. ms" for o in octs) + " |",
            "|" + "|".join(" --- " for _ in range(len(octs) + 2)) + "|", *lines, ""]
-    ax.set_xlabel("octaves")
-    ax.set_ylabel("ms per build_grid")
     ax.set_yscale("log")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(docs, "bench_octaves.png"), dpi=110)
-    plt.close(fig)
-    md += ["![octaves](bench_octaves.png)", ""]
+    _finish(ax, "octaves", "ms per build_grid", legend_size=8)
+    md += [_save(fig, docs, "bench_octaves"), ""]
     rebuild65 = by.get(("projected grid", 65))
     if rebuild65 is not None:
         md += [f"In Blender, a 65² projected grid's whole frame (frame_set) takes "
@@ -130,8 +137,7 @@ def write(results, docs):
                          if r["shot"] == shot and r["mesh"] == kind)
             ax.loglog(*zip(*pts, strict=True), "o-", label=kind)
         ax.set_title(shot)
-        ax.set_xlabel("rebuild ms")
-        ax.grid(True, which="both", alpha=0.3)
+        _finish(ax, "rebuild ms", None)
         pg = sorted((r["ms"], r["px_mean"]) for r in acc
                     if r["shot"] == shot and r["mesh"] == "projected grid")
         wg = sorted((r["ms"], r["px_mean"]) for r in acc
@@ -143,9 +149,7 @@ def write(results, docs):
             factors.append((shot, float(np.median(shot_factors))))
     np.atleast_1d(axes)[0].set_ylabel("mean screen error, px of 1920×1080")
     np.atleast_1d(axes)[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(docs, "bench_pareto.png"), dpi=110)
-    plt.close(fig)
+    pareto_png = _save(fig, docs, "bench_pareto")
     md += ["## 2. Geometric accuracy vs time", "",
            "Per shot, a ray per pixel (96×54) meets the mesh (Blender's BVH tree) and the exact "
            "surface (all octaves, exact noise, log-spaced march and bisection). Screen error: "
@@ -153,7 +157,7 @@ def write(results, docs):
            "same x, y; also the vertical error and the distance along the ray in metres, and the "
            "share of pixels where the exact surface is hit but the mesh is missed. Time: the "
            "core rebuild of each mesh, measured interleaved.", "",
-           "![pareto](bench_pareto.png)", "",
+           pareto_png, "",
            _table(acc, [("shot", "shot", ""), ("mesh", "mesh", ""), ("n²", "n", ""),
                         ("ms", "ms", ".2f"), ("px mean", "px_mean", ".2f"),
                         ("px p95", "px_p95", ".2f"), ("vertical m", "m_mean", ".3f"),
@@ -182,17 +186,13 @@ def write(results, docs):
     for mode in ("world origin", "snapped origin"):
         pts = [(r["distance"], r["max_error_m"]) for r in pr if r["origin"] == mode]
         ax.loglog(*zip(*pts, strict=True), "o-", label=f"float32 relative to the {mode}")
-    ax.set_xlabel("camera distance from the world origin, m")
-    ax.set_ylabel("max vertex error, m")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(docs, "bench_precision.png"), dpi=110)
-    plt.close(fig)
+    _finish(ax, "camera distance from the world origin, m", "max vertex error, m",
+            legend_size=8)
+    precision_png = _save(fig, docs, "bench_precision")
     md += ["## 4. Precision: float32 vertices", "",
            "Stored float32 positions against the float64 surface they come from (65×129, the "
            "whole grid out to the horizon, and the vertices within 100 m of the camera).", "",
-           "![precision](bench_precision.png)", "",
+           precision_png, "",
            _table(pr, [("camera from origin, m", "distance", ".0e"),
                        ("stored relative to", "origin", ""),
                        ("max error, m", "max_error_m", ".2e"),
@@ -224,18 +224,14 @@ def write(results, docs):
         for r in rr:
             if r["material"] == mat:
                 ax.annotate(str(r["samples"]), (r["seconds"], r["rms_error"]), fontsize=7)
-    ax.set_xlabel("render seconds (EEVEE, 320×180, CPU)")
-    ax.set_ylabel("rms error vs reference")
     ax.set_xscale("log")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(docs, "bench_render.png"), dpi=110)
-    plt.close(fig)
+    _finish(ax, "render seconds (EEVEE, 320×180, CPU)", "rms error vs reference",
+            legend_size="medium")
+    render_png = _save(fig, docs, "bench_render")
     md += ["## 6. Render cost (EEVEE on this CPU, llvmpipe)", "",
            "The default shot at 320×180; error is the rms difference (display values) from a "
            "high-sample render of the same material; shader compilation is excluded.", "",
-           "![render](bench_render.png)", "",
+           render_png, "",
            _table(rr, [("material", "material", ""), ("samples", "samples", ""),
                        ("seconds", "seconds", ".2f"), ("rms error", "rms_error", ".4f")]), ""]
 
