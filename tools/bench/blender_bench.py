@@ -67,7 +67,8 @@ def world_grid_scene(n):
     bridge.set_topology(mesh, n, n)
     obj = bpy.data.objects.new("World Grid", mesh)
     scene.collection.objects.link(obj)
-    depsgraph = scene.view_layers[0].depsgraph
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        depsgraph = bpy.context.evaluated_depsgraph_get()
     extent = visible_extent(Camera(*bridge.camera_for(scene, depsgraph, render=False)),
                             HeightField(**WAVES))
     WORLD_GRIDS[scene.name] = (mesh, *world_grid_points(n, extent, WAVES["wave_scale"]))
