@@ -21,9 +21,11 @@ def stats_lines(obj, scene):
         lines.append(("ERROR", f"Not built: {state['message']}"))
     elif state:
         first, count = state.get("shader_octaves", (0, 0))
+        grid = state.get("grid")
+        efficiency = grid.efficiency if grid is not None else 0.0  # computed on first draw
         lines += [
             ("MESH_GRID", f"Vertices: {state['vertices']:,}"),
-            ("RESTRICT_VIEW_OFF", f"Vertex efficiency: {state['efficiency']:.0%}"),
+            ("RESTRICT_VIEW_OFF", f"Vertex efficiency: {efficiency:.0%}"),
             ("TIME", f"Last rebuild: {state['ms']:.2f} ms"),
             ("SHADING_TEXTURE", f"Octaves in the shader: {count} (from {first})"),
         ]

@@ -162,8 +162,8 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         write_mesh(mesh, result, np.linalg.inv(linear))
     except ValueError as e:
         return _refuse(state, mesh, str(e))
-    state.update(key=key, message=None, vertices=len(result.positions),
-                 efficiency=result.efficiency, ms=(time.perf_counter() - start) * 1e3,
+    state.update(key=key, message=None, vertices=len(result.positions), grid=result,
+                 ms=(time.perf_counter() - start) * 1e3,
                  shader_octaves=result.shader_octaves, resolution=res, render=render)
     water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t)
     return None
@@ -176,7 +176,7 @@ SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resol
 
 def _refuse(state, mesh, message):
     """Record why no grid was built; our mesh (never the user's) is emptied, not left stale."""
-    state.update(key=None, message=message, vertices=0, efficiency=0.0, ms=0.0)
+    state.update(key=None, message=message, vertices=0, grid=None, ms=0.0)
     if mesh is not None and len(mesh.vertices):
         mesh.clear_geometry()
     return message
@@ -213,7 +213,7 @@ def write_mesh(mesh, result, to_local):
     if not np.allclose(to_local, np.eye(3), rtol=0.0, atol=0.0):
         positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
     mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
-    lod = np.minimum(result.lod, 64.0).astype(np.float32)  # finite for the shader
+    lod = np.minimum(result.lod, np.float32(64.0))  # finite for the shader
     mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set("value", lod)
     mesh.update()
     mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path

@@ -25,17 +25,15 @@ class Camera:
     """A perspective or orthographic camera given by its view and projection matrices."""
 
     def __init__(self, view, proj):
-        self.view = matrix4("view", view)
-        self.proj = matrix4("proj", proj)
+        self.view, self.inv_view = matrix4("view", view)
+        self.proj, self.inv_proj = matrix4("proj", proj)
         row = self.proj[3] / np.abs(self.proj[3]).max()
-        if np.allclose(row, [0, 0, -1, 0], atol=1e-12):
+        if np.abs(row - (0.0, 0.0, -1.0, 0.0)).max() <= 1e-12:
             self.orthographic = False
-        elif np.allclose(row, [0, 0, 0, 1], atol=1e-12):
+        elif np.abs(row - (0.0, 0.0, 0.0, 1.0)).max() <= 1e-12:
             self.orthographic = True
         else:
             raise ValueError("proj: neither a perspective nor an orthographic projection")
-        self.inv_view = np.linalg.inv(self.view)
-        self.inv_proj = np.linalg.inv(self.proj)
         self.viewproj = self.proj @ self.view
         axes = self.inv_view[:3, :3]
         lengths = np.linalg.norm(axes, axis=0)

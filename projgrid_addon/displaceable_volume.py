@@ -20,16 +20,14 @@ def visible_volume_points(camera, level, bound):
     edges with S_upper and S_lower. An empty (0, 3) array means the volume is not in view.
     """
     corners = camera.corners
-    lower, upper = bound_planes(level, bound)
+    planes = np.array(bound_planes(level, bound))[:, None]  # (2, 1)
     z = corners[:, 2]
-    found = [corners[(z >= lower) & (z <= upper)]]
+    inside = corners[(z >= planes[0]) & (z <= planes[1])]
     a, b = corners[FRUSTUM_EDGES[:, 0]], corners[FRUSTUM_EDGES[:, 1]]
-    dz = b[:, 2] - a[:, 2]
-    safe = np.where(dz == 0.0, 1.0, dz)
-    for plane in (lower, upper):
-        t = (plane - a[:, 2]) / safe
-        hit = (dz != 0.0) & (t >= 0.0) & (t <= 1.0)
-        p = a[hit] + t[hit, None] * (b[hit] - a[hit])
-        p[:, 2] = plane
-        found.append(p)
-    return np.concatenate(found)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (planes - a[:, 2]) / (b[:, 2] - a[:, 2])  # (2, 12); inf or NaN on level edges
+    hit = (t >= 0.0) & (t <= 1.0)
+    edge = np.nonzero(hit)[1]
+    p = a[edge] + t[hit][:, None] * (b - a)[edge]
+    p[:, 2] = np.broadcast_to(planes, hit.shape)[hit]
+    return np.concatenate([inside, p])

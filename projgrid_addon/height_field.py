@@ -19,6 +19,7 @@ from functools import lru_cache
 import numpy as np
 
 from . import noise as _noise
+from .scratch import scratch
 from .validation import finite, integer, non_negative, positive
 
 GRAVITY = 9.81
@@ -40,18 +41,19 @@ def octave_weights(lod, octave):
 class NoiseTiles:
     """Per-octave tileable noise textures (App. B), rendered per time slice and cached.
 
-    A tile covers PERIOD x PERIOD lattice cells with `texels` samples per cell, plus one wrapped row
-    and column so bilinear lookups need no modulo. The texture for time z is a fixed linear
-    combination of the slice fields A_k, B_k, A_k+1, B_k+1, so a frame costs four array ops per
-    octave and new slices are rendered only when z crosses an integer.
+    A tile covers PERIOD x PERIOD lattice cells with `texels` samples per cell. Each texel stores
+    the four coefficients of its bilinear patch, a + b fx + fy (c + d fx), as one 16-byte element,
+    so a lookup is a single gather. The texture for time z is a fixed linear combination of the
+    slice fields A_k, B_k, A_k+1, B_k+1 (noise.py): one matrix-vector product per octave and frame,
+    and new slices are rendered only when z crosses an integer. Its buffers are reused from frame
+    to frame, so one thread at a time may use it (Blender runs handlers on the main thread).
     """
 
-    def __init__(self, seed, texels=4, cache_slices=64):
+    def __init__(self, seed, texels=4, cache_slices=2 * MAX_OCTAVES):
         self.seed = int(seed)
         self.texels = integer("texels", texels, 1, 64)
         self.size = _noise.PERIOD * self.texels
-        n = self.size + 1
-        lattice = np.arange(n, dtype=np.float64) / self.texels
+        lattice = np.arange(self.size + 1, dtype=np.float64) / self.texels
         cells = np.floor(lattice)
         ix = cells.astype(np.int64)
         frac = lattice - cells
@@ -59,10 +61,22 @@ class NoiseTiles:
         self._fx, self._fy = np.meshgrid(frac, frac, indexing="xy")
         self._slices = OrderedDict()
         self._cache_slices = cache_slices
+        self._pairs = {}
         self._frame = {}
 
+    def _patches(self, field):
+        """(size^2, 4) float32 bilinear coefficients (a, b, c, d) of a (size+1)^2 field."""
+        f00, f10 = field[:-1, :-1], field[:-1, 1:]
+        f01, f11 = field[1:, :-1], field[1:, 1:]
+        out = np.empty((self.size, self.size, 4), dtype=np.float32)
+        out[..., 0] = f00
+        out[..., 1] = f10 - f00
+        out[..., 2] = f01 - f00
+        out[..., 3] = f11 - f10 - f01 + f00
+        return out.reshape(-1)
+
     def _slice(self, octave, k):
-        """A_k and B_k of an octave as one (2, (size+1)^2) float32 array, cached."""
+        """A_k and B_k of an octave as patches, one (2, 4 size^2) float32 array, cached."""
         key = (octave, k)
         hit = self._slices.get(key)
         if hit is not None:
@@ -71,46 +85,65 @@ class NoiseTiles:
         a, b = _noise.slice_terms(
             self._ix, self._iy, self._fx, self._fy, k, _noise.octave_key(self.seed, octave)
         )
-        hit = np.stack([a.ravel(), b.ravel()]).astype(np.float32)
+        hit = np.stack([self._patches(a), self._patches(b)])
         self._slices[key] = hit
         if len(self._slices) > self._cache_slices:
             self._slices.popitem(last=False)
         return hit
 
-    def texture(self, octave, z):
-        """The (size+1)^2 float32 texture (flattened) of octave `octave` at time coordinate z."""
-        key = (octave, z)
-        tex = self._frame.get(key)
-        if tex is None:
-            k, weights = _noise.time_weights(np.float64(z))
-            c = np.array(weights, dtype=np.float32)
-            (a0, b0), (a1, b1) = self._slice(octave, int(k)), self._slice(octave, int(k) + 1)
-            tex = c[0] * a0
-            tex += c[1] * b0
-            tex += c[2] * a1
-            tex += c[3] * b1
-            if len(self._frame) > 4 * MAX_OCTAVES:
-                self._frame.clear()
-            self._frame[key] = tex
+    def texture(self, octave, z, gain=1.0):
+        """The octave's patches at time coordinate z, times `gain`: (size^2,) complex128 elements,
+        each four float32. Each octave keeps one texture buffer, rewritten when z or gain change
+        (a fresh array per frame would be faulted in page by page; see scratch.py)."""
+        key = (z, gain)
+        last = self._frame.get(octave)
+        if last is not None and last[0] == key:
+            return last[1]
+        k, weights = _noise.time_weights(np.float64(z))
+        k = int(k)
+        pair = self._pairs.get(octave)
+        if pair is None or pair[0] != k:
+            pair = (k, np.concatenate([self._slice(octave, k), self._slice(octave, k + 1)]))
+            self._pairs[octave] = pair
+        buf = np.empty(pair[1].shape[1], np.float32) if last is None else last[1].view(np.float32)
+        c = (np.array(weights, dtype=np.float64) * gain).astype(np.float32)
+        tex = np.matmul(c, pair[1], out=buf).view(np.complex128)
+        self._frame[octave] = (key, tex)
         return tex
 
-    def sample(self, octave, z, x, y):
-        """Bilinear lookup of the octave's texture at lattice coordinates (x, y)."""
-        tex = self.texture(octave, z)
-        sx, sy = x * self.texels, y * self.texels
-        fx0, fy0 = np.floor(sx), np.floor(sy)
-        mask = self.size - 1
-        i = fx0.astype(np.int64) & mask
-        j = fy0.astype(np.int64) & mask
-        fx = (sx - fx0).astype(np.float32)
-        fy = (sy - fy0).astype(np.float32)
-        row = self.size + 1
-        idx = j * row + i
-        t00, t10 = tex[idx], tex[idx + 1]
-        t01, t11 = tex[idx + row], tex[idx + row + 1]
-        bottom = t00 + fx * (t10 - t00)
-        top = t01 + fx * (t11 - t01)
-        return bottom + fy * (top - bottom)
+    def sample(self, octave, z, xy, scale=1.0, gain=1.0):
+        """gain * the octave's texture, bilinear, at lattice coordinates xy * scale.
+
+        `xy` is a (2, ...) array of x and y, so each step below is one NumPy call for both. The
+        result is a scratch array (see scratch.py), valid until the next call.
+        """
+        tex = self.texture(octave, z, gain)
+        shape = xy.shape[1:]
+        s = scratch("s", xy.shape, np.float64)
+        np.multiply(xy, scale * self.texels, out=s)
+        cell = scratch("cell", xy.shape, np.float64)
+        np.floor(s, out=cell)
+        ij = scratch("ij", xy.shape, np.int64)
+        np.copyto(ij, cell, casting="unsafe")
+        np.subtract(s, cell, out=s)
+        frac = scratch("frac", xy.shape, np.float32)
+        np.copyto(frac, s, casting="same_kind")
+        np.bitwise_and(ij, self.size - 1, out=ij)
+        idx = scratch("idx", shape, np.int64)
+        np.multiply(ij[1], self.size, out=idx)
+        idx += ij[0]
+        patch = scratch("patch", shape, np.complex128)
+        np.take(tex, idx, out=patch, mode="wrap")  # "raise" would buffer `out`
+        patch = patch.view(np.float32).reshape(shape + (4,))
+        fx, fy = frac[0], frac[1]
+        n = scratch("n", shape, np.float32)
+        np.multiply(patch[..., 3], fx, out=n)
+        n += patch[..., 2]
+        n *= fy
+        fx *= patch[..., 1]
+        n += fx
+        n += patch[..., 0]
+        return n
 
 
 @lru_cache(maxsize=8)
@@ -152,34 +185,64 @@ class HeightField:
         """f_HF at world points (x, y) and time t (float64, same shape as x).
 
         `lod` (per point, see `octave_weights`) band-limits the sum; None keeps every octave.
-        Only points where an octave's weight is non-zero evaluate it.
+        """
+        x = np.asarray(x, dtype=np.float64)
+        return self.heights_xy(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod)
+
+    def heights_xy(self, xy, t, lod=None):
+        """`heights` at a (2, ...) array of x and y, as the grid builds them.
+
+        An octave is evaluated only on the rows (last axis = columns) between the first and the
+        last row where some point keeps it: contiguous slices, no gathers or scatters. (Summing
+        odd octaves on a second thread measured slower on 2 cores: 2.9 against 2.0 ms at 65x129.)
         """
         t = finite("time", t)
-        x = np.asarray(x, dtype=np.float64)
-        y = np.asarray(y, dtype=np.float64)
-        h = np.zeros(x.shape, dtype=np.float64)
-        if self.amplitude == 0.0:
+        xy = np.asarray(xy, dtype=np.float64)
+        shape = xy.shape[1:]
+        h = np.zeros(shape, dtype=np.float64)
+        if self.amplitude == 0.0 or h.size == 0:
             return h
+        rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
+        lod2 = None if lod is None else np.asarray(lod).reshape(rows)
+        self._sum_octaves(self._octave_jobs(lod2), xy.reshape((2,) + rows), lod2, t,
+                          h.reshape(rows))
+        return h
+
+    def _octave_jobs(self, lod2):
+        """(octave, gain, rows, weighted) for each octave some point keeps (§1.6 band limit)."""
         scale = self.amplitude / _noise.NOISE_BOUND
+        if lod2 is not None:
+            row_max, row_min = lod2.max(axis=1), lod2.min(axis=1)
+        jobs = []
         for i in range(self.octaves):
             gain = scale * self.roughness**i
             if gain == 0.0:
                 continue
-            w = octave_weights(lod, i)
-            if w is None:
-                sel, wi = slice(None), 1.0
-            else:
-                sel = np.flatnonzero(w > 0.0)
-                if sel.size == 0:
-                    break
-                wi = w.ravel()[sel]
-            xs = x.ravel()[sel] / self.wavelength(i)
-            ys = y.ravel()[sel] / self.wavelength(i)
+            if lod2 is None:
+                jobs.append((i, gain, slice(None), False))
+                continue
+            needed = np.flatnonzero(row_max > i)
+            if needed.size == 0:
+                break
+            band = slice(needed[0], needed[-1] + 1)
+            jobs.append((i, gain, band, bool(row_min[band].min() < i + 1)))
+        return jobs
+
+    def _sum_octaves(self, jobs, xy2, lod2, t, out):
+        """Add the octaves of `jobs` into `out` (rows x columns)."""
+        for i, gain, band, weighted in jobs:
             z = self.time_coordinate(i, t)
+            inv = 1.0 / self.wavelength(i)
             if self._tiles is None:
-                key = _noise.octave_key(self.seed, i)
-                n = _noise.noise(xs, ys, np.full(xs.shape, z), key)
+                xs, ys = xy2[0, band] * inv, xy2[1, band] * inv
+                n = _noise.noise(xs, ys, np.full(xs.shape, z), _noise.octave_key(self.seed, i))
+                n *= gain
             else:
-                n = self._tiles.sample(i, z, xs, ys)
-            h.ravel()[sel] += gain * wi * n
-        return h
+                n = self._tiles.sample(i, z, xy2[:, band], inv, gain)
+            if weighted:
+                w = scratch("weights", lod2[band].shape, lod2.dtype)
+                np.subtract(lod2[band], i, out=w)
+                np.clip(w, 0.0, 1.0, out=w)  # octave_weights, in place
+                n *= w
+            out[band] += n
+

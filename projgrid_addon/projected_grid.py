@@ -19,6 +19,7 @@ import numpy as np
 from .camera import Camera
 from .displaceable_volume import visible_volume_points
 from .projector import Projector, aim_projector
+from .scratch import scratch
 from .validation import finite, integer, non_negative
 
 MAX_VERTICES = 2**25
@@ -28,8 +29,8 @@ MAX_VERTICES = 2**25
 class GridResult:
     """One rebuild. Vertex arrays are row-major: index = row * resolution_x + column.
 
-    `normals` are computed on first use (Blender derives its own from the faces, so the extension
-    never pays for them) from the float64 surface kept in `surface`.
+    `normals` and `efficiency` are computed on first use: Blender derives its own normals from
+    the faces, and the efficiency is a statistic, so a frame pays for neither.
     """
 
     positions: np.ndarray  # (N, 3) float32, world space
@@ -37,11 +38,18 @@ class GridResult:
     surface: tuple  # (x, y, height above level) float64 (ny, nx) arrays, for the normals
     lod: np.ndarray  # (N,) float32, band limit per vertex (height_field.octave_weights)
     visible: bool
-    efficiency: float  # share of vertices inside the camera frustum (§4.1)
     shader_octaves: tuple  # (first, count): octaves the geometry left out, in part or whole
     projector: Projector | None
     resolution: tuple
     origin: np.ndarray  # (3,) float64: world position = origin + positions
+    camera: Camera | None = None
+
+    @cached_property
+    def efficiency(self):
+        """Share of vertices inside the camera frustum (§4.1), computed on first use."""
+        if not self.visible:
+            return 0.0
+        return float(self.camera.in_frustum(self.positions, self.origin).mean())
 
     @cached_property
     def normals(self):
@@ -76,6 +84,17 @@ def grid_topology(nx, ny):
 
 
 @lru_cache(maxsize=8)
+def grid_axes(nx, ny):
+    """u, 1 - u as (nx,) and v, 1 - v as (ny, 1) float64 arrays over [0, 1] (read-only)."""
+    u = np.linspace(0.0, 1.0, nx)
+    v = np.linspace(0.0, 1.0, ny)[:, None]
+    axes = (u, 1.0 - u, v, 1.0 - v)
+    for a in axes:
+        a.setflags(write=False)
+    return axes
+
+
+@lru_cache(maxsize=8)
 def grid_uv(nx, ny):
     """(N, 2) float32 grid coordinates in [0, 1]^2 (§2.4 step 5)."""
     u, v = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, ny))
@@ -87,7 +106,7 @@ def grid_uv(nx, ny):
 def _empty(resolution, octaves, origin):
     z3 = np.zeros((0, 3), np.float32)
     return GridResult(z3, np.zeros((0, 2), np.float32), (), np.zeros(0, np.float32),
-                      False, 0.0, (octaves, 0), None, resolution, origin)
+                      False, (octaves, 0), None, resolution, origin)
 
 
 def snapped_origin(camera, level, cell=1024.0):
@@ -135,6 +154,51 @@ def grid_normals(x, y, z):
     return n.reshape(-1, 3).astype(np.float32)
 
 
+def pseudo_log2(ratio):
+    """log2 exact at powers of two and linear between them, from the float32 bits (Mitchell).
+
+    With it the band limit's weight of octave i, clip(lod - i, 0, 1), fades linearly in the
+    wavelength-to-spacing ratio between 2 and 4 spacings (a mip-map's linear blend); the exact
+    log2 would fade linearly in octaves instead, at five times the cost.
+    """
+    ratio = np.asarray(ratio)
+    if ratio.dtype != np.float32:
+        ratio32 = scratch("ratio32", ratio.shape, np.float32)
+        np.copyto(ratio32, ratio, casting="same_kind")
+        ratio = ratio32
+    lod = ratio.view(np.int32).astype(np.float32)
+    lod *= np.float32(2.0**-23)
+    lod -= np.float32(127.0)
+    return lod
+
+
+def band_limit_lod(c, left, right, u, hw, wave_scale):
+    """Per-vertex level of detail log2(wave_scale / (2 spacing)) (see height_field.octave_weights).
+
+    The spacing is the larger grid step of the homography's Jacobian. For p = h / w with h affine
+    along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with D = right - left: a per-row vector
+    over w^2, and likewise per column along v. So the ratio is w^2 over the larger of a per-row and
+    a per-column length, and no per-vertex square roots or logarithms are needed.
+    """
+    nx, ny = len(u), len(left)
+    d = right - left
+    along_u = np.hypot(d[:, 0] * left[:, 3] - left[:, 0] * d[:, 3],
+                       d[:, 1] * left[:, 3] - left[:, 1] * d[:, 3]) / (nx - 1)
+    iu = (1.0 - u)[:, None]
+    bottom = iu * c[0] + u[:, None] * c[1]  # (nx, 4): hom at v = 0
+    e = iu * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
+    along_v = np.hypot(e[:, 0] * bottom[:, 3] - bottom[:, 0] * e[:, 3],
+                       e[:, 1] * bottom[:, 3] - bottom[:, 1] * e[:, 3]) / (ny - 1)
+    step = scratch("step", hw.shape, np.float64)
+    np.maximum(along_u[:, None], along_v[None, :], out=step)
+    step *= 2.0 / wave_scale
+    ratio = scratch("ratio", hw.shape, np.float64)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        np.multiply(hw, hw, out=ratio)
+        ratio /= step
+    return pseudo_log2(np.fmax(ratio, 0.0, out=ratio))  # a degenerate 0 / 0 keeps no octave
+
+
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
                projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector):
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
@@ -165,39 +229,35 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v), in the
     # weighted form: corners can differ in scale by 1e6 (w ~ 1 / distance), and differences of
     # corners would cancel catastrophically near the horizon.
-    u = np.linspace(0.0, 1.0, nx)
-    v = np.linspace(0.0, 1.0, ny)[:, None]
-    left = (1.0 - v) * c[0] + v * c[2]  # (ny, 4): hom at u = 0
-    right = (1.0 - v) * c[1] + v * c[3]  # (ny, 4): hom at u = 1
-    iu = 1.0 - u
-    hx = iu * left[:, 0:1] + u * right[:, 0:1]
-    hy = iu * left[:, 1:2] + u * right[:, 1:2]
-    hw = iu * left[:, 3:4] + u * right[:, 3:4]
-    x, y = hx / hw, hy / hw
+    u, iu, v, iv = grid_axes(nx, ny)
+    left = iv * c[0] + v * c[2]  # (ny, 4): hom at u = 0
+    right = iv * c[1] + v * c[3]  # (ny, 4): hom at u = 1
+    hw = scratch("hw", (ny, nx), np.float64)
+    term = scratch("term", (2, ny, nx), np.float64)
+    np.multiply(iu, left[:, 3:4], out=hw)
+    np.multiply(u, right[:, 3:4], out=term[0])
+    hw += term[0]
+    xy = np.empty((2, ny, nx))
+    np.multiply(iu, left[:, 0:2].T[:, :, None], out=xy)
+    np.multiply(u, right[:, 0:2].T[:, :, None], out=term)
+    xy += term
+    xy /= hw
+    x, y = xy
 
     lod = None
     if band_limit:
-        # World spacing from the homography's Jacobian: d(h/w) = (dh - (h/w) dw) / w.
-        du = right - left  # (ny, 4): d hom / du
-        dv = iu[:, None] * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
-        su = np.hypot(du[:, 0:1] - x * du[:, 3:4], du[:, 1:2] - y * du[:, 3:4])
-        sv = np.hypot(dv[:, 0] - x * dv[:, 3], dv[:, 1] - y * dv[:, 3])
-        spacing = np.maximum(su / (nx - 1), sv / (ny - 1)) / np.abs(hw)
-        with np.errstate(divide="ignore"):
-            lod = np.log2(hf.wave_scale / (2.0 * spacing))
-
-    h = hf.heights(x, y, time, lod)
+        lod = band_limit_lod(c, left, right, u, hw, hf.wave_scale)
+    h = hf.heights_xy(xy, time, lod)
     positions = np.empty((ny, nx, 3), dtype=np.float32)
-    positions[..., 0] = x - origin[0]
-    positions[..., 1] = y - origin[1]
-    positions[..., 2] = (level - origin[2]) + h
+    np.subtract(x, origin[0], out=positions[..., 0], casting="same_kind")
+    np.subtract(y, origin[1], out=positions[..., 1], casting="same_kind")
+    np.add(h, level - origin[2], out=positions[..., 2], casting="same_kind")
     positions = positions.reshape(-1, 3)
-    inside = camera.in_frustum(positions, origin)
     if lod is None:
-        lod32, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
+        lod, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
     else:
-        lod32 = lod.ravel().astype(np.float32)
+        lod = lod.reshape(-1)
         first = int(np.clip(np.floor(lod.min()), 0, hf.octaves))
         shader = (first, hf.octaves - first)
-    return GridResult(positions, grid_uv(nx, ny), (x, y, h), lod32, True,
-                      float(inside.mean()), shader, projector, (nx, ny), origin)
+    return GridResult(positions, grid_uv(nx, ny), (x, y, h), lod, True, shader, projector,
+                      (nx, ny), origin, camera)

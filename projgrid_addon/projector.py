@@ -26,6 +26,7 @@ RANGE_MARGIN = 1e-5
 # or distance (orthographic); the lines of App. A run between z = 0 and z = 1.
 _PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, -1.0, 0]])
 _ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
+_INVERSE = {id(m): np.linalg.inv(m) for m in (_PERSPECTIVE, _ORTHOGRAPHIC)}
 
 
 def _unit(v):
@@ -117,7 +118,10 @@ class Projector:
         inv_view = np.eye(4)
         inv_view[:3, :3] = self.view[:3, :3].T
         inv_view[:3, 3] = self.position
-        return inv_view @ np.linalg.inv(self.proj) @ self.range_matrix
+        inv_proj = _INVERSE.get(id(self.proj))
+        if inv_proj is None:
+            inv_proj = np.linalg.inv(self.proj)
+        return inv_view @ inv_proj @ self.range_matrix
 
     def corner_points(self, level):
         """Homogeneous intersections of the four corner lines with S_base (§2.4 step 6, App. A).
@@ -191,7 +195,7 @@ def aim_projector(camera, level, bound, elevation, base_points):
     height = max(abs(camera.position[2] - level), bound + elevation, floor)
     eye = np.array([camera.position[0], camera.position[1], level + height])
     g = heading(camera)
-    right = np.cross(g, UP)
+    right = np.array([g[1], -g[0], 0.0])  # g x UP
     aim = aim_point(camera, level, height) @ g
     pitch = np.arctan2(height, aim)  # angle below the horizon, in (0, pi)
     lo, hi = MARGIN_ANGLE, np.pi - MARGIN_ANGLE

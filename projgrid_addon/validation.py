@@ -4,7 +4,11 @@ import numpy as np
 
 
 def matrix4(name, value):
-    """Return `value` as a finite, invertible 4x4 float64 matrix."""
+    """Return `value` as a finite, invertible 4x4 float64 matrix and its inverse.
+
+    Invertible means a condition number (infinity norm, from the inverse that callers need
+    anyway) below 1e15.
+    """
     try:
         m = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):
@@ -13,10 +17,15 @@ def matrix4(name, value):
         raise ValueError(f"{name}: expected a 4x4 matrix, got shape {m.shape}")
     if not np.all(np.isfinite(m)):
         raise ValueError(f"{name}: contains NaN or infinity")
-    cond = np.linalg.cond(m)
+    try:
+        inv = np.linalg.inv(m)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"{name}: matrix is singular") from None
+    with np.errstate(over="ignore", invalid="ignore"):
+        cond = np.abs(m).sum(axis=1).max() * np.abs(inv).sum(axis=1).max()
     if not np.isfinite(cond) or cond > 1e15:
         raise ValueError(f"{name}: matrix is singular")
-    return m
+    return m, inv
 
 
 def finite(name, value):

@@ -80,9 +80,10 @@ def height_field_paths(repeats=7):
     return rows
 
 
-def octave_cost(resolutions=((65, 129), (257, 257)), octaves=(1, 2, 4, 6, 8, 12, 16),
+def octave_cost(resolutions=((65, 129), (257, 257)), octaves=(0, 1, 2, 4, 6, 8, 12, 16),
                 repeats=9):
-    """build_grid time against octave count, fast and exact paths (band limit on)."""
+    """build_grid time against octave count, fast and exact paths (band limit on); 0 octaves is
+    the grid alone (projector, corners, interpolation, band limit, packing)."""
     cam = camera(10.0, -8.0, 50.0)
     rows = []
     for res in resolutions:
@@ -121,11 +122,19 @@ def precision(distances=(1e2, 1e3, 1e4, 1e5, 1e6)):
 
 
 def efficiency(resolution=(65, 129)):
+    """Vertex efficiency per shot, and where the vertices outside the frustum are: below the
+    screen's bottom edge, beside it, or beyond the far plane."""
     hf = HeightField(**WAVES)
     rows = []
     for name, height, pitch, fov in SHOTS:
-        r = build_grid(camera(height, pitch, fov), hf, time=3.0, resolution=resolution)
-        rows.append({"shot": name, "efficiency": r.efficiency})
+        cam = camera(height, pitch, fov)
+        r = build_grid(cam, hf, time=3.0, resolution=resolution)
+        c = cam.clip(r.positions.astype(np.float64) + r.origin)
+        ndc = c[:, :3] / c[:, 3:4]
+        rows.append({"shot": name, "efficiency": r.efficiency,
+                     "below": float(np.mean(ndc[:, 1] < -1.0)),
+                     "beside": float(np.mean(np.abs(ndc[:, 0]) > 1.0)),
+                     "beyond_far": float(np.mean(ndc[:, 2] > 1.0))})
     return rows
 
 

@@ -49,6 +49,42 @@ def _loglog_slope(x, y):
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
+def _missing(targets, core65, rebuild_ms, efficiency_rows):
+    """What the unmet targets lack and why, in the measured numbers."""
+    unmet = {t for t, _, ok in targets if not ok}
+    out = []
+    if any(t.startswith("65×129") for t in unmet) and core65 and core65[0] is not None:
+        grid, full = core65
+        out.append(
+            f"- **65×129 in 1 ms.** The grid alone (0 octaves) takes {grid:.2f} ms: about 150 "
+            "NumPy calls on arrays of 4 to 129 elements (V_visible, aiming, range, corners, "
+            "the band limit per row and column), each costing 1–3 µs of call overhead "
+            f"whatever its size. The octaves the band limit keeps add {full - grid:.2f} ms: per "
+            "octave one blend of a 64k-texel texture and about 20 NumPy passes over the "
+            "vertices. Reaching 1 ms needs a compiled kernel (a C extension or Numba), which "
+            "the design keeps out of the NumPy-only core; in the thesis this work runs on the "
+            "GPU.")
+    if any(t.startswith("257²") for t in unmet) and ("Ocean modifier", 257) in rebuild_ms:
+        ours, theirs = rebuild_ms["projected grid", 257], rebuild_ms["Ocean modifier", 257]
+        out.append(
+            f"- **257² at 0.25 × the Ocean modifier.** The modifier's {theirs:.1f} ms is "
+            f"compiled code; our {ours:.1f} ms is the same NumPy passes as above over 66k "
+            "vertices on one thread (summing odd octaves on a second thread measured slower "
+            "on these 2 cores), plus Blender's mesh update. The same compiled kernel would be "
+            "the way to 0.25 ×.")
+    if any(t.startswith("Vertex efficiency") for t in unmet):
+        worst = min(efficiency_rows, key=lambda r: r["efficiency"])
+        out.append(
+            f"- **Efficiency ≥ 0.9.** At the {worst['shot']} shot {worst['below']:.0%} of the "
+            "vertices lie below the screen: V_visible includes the strip in front of the "
+            "camera where crests up to S_upper could rise into view, and from close above "
+            "the water that strip takes a large share of the projector's range. This is the "
+            "guard area the thesis names as the grid's main inefficiency (§4.1); its "
+            "suggested remedy, a non-rectangular M_range (§2.4.1), is not implemented. The "
+            "columns beside the screen are the same guard area for troughs at the sides.")
+    return ["What is missing, and why:", "", *out, ""] if out else []
+
+
 def write(results, docs):
     os.makedirs(docs, exist_ok=True)
     plt = _plt()
@@ -61,6 +97,7 @@ def write(results, docs):
           "so the ratios within a step are measured side by side.", "",
           "Machine: " + ", ".join(f"{k} {v}" for k, v in results["machine"].items()), ""]
     targets = []
+    core65 = None
 
     # 1. rebuild cost
     rb = results["rebuild"]
@@ -110,13 +147,14 @@ def write(results, docs):
             lines.append(f"| {res[0]}×{res[1]} | {method} | " +
                          " | ".join(f"{ms:.2f}" for _, ms in pts) + " |")
             if method == "fast" and res == (65, 129):
-                flat = pts[-1][1] / pts[0][1]
-                default = dict(pts).get(8)
+                ms = dict(pts)
+                flat = pts[-1][1] / ms[1]
                 targets.append(("Per-frame cost roughly flat in octaves (fast path)",
                                 f"{pts[-1][0]} octaves cost {flat:.2f} × 1 octave", flat <= 2.0))
-                if default is not None:
+                if 8 in ms:
                     targets.append(("65×129 rebuild ≤ 1 ms median (core, 8 octaves)",
-                                    f"{default:.2f} ms", default <= 1.0))
+                                    f"{ms[8]:.2f} ms", ms[8] <= 1.0))
+                    core65 = (ms.get(0), ms[8])
     octs = sorted({r["octaves"] for r in oc})
     md += ["| grid | path | " + " | ".join(f"{o} oct. ms" for o in octs) + " |",
            "|" + "|".join(" --- " for _ in range(len(octs) + 2)) + "|", *lines, ""]
@@ -213,8 +251,11 @@ def write(results, docs):
     med = float(np.median([r["efficiency"] for r in ef]))
     md += ["## 5. Vertex efficiency", "",
            "Share of grid vertices inside the camera frustum (§4.1; the thesis reports 50–95 %).",
-           "", _table(ef, [("shot", "shot", ""), ("efficiency", "efficiency", ".1%")]), "",
-           f"Median {med:.1%}.", ""]
+           "", _table(ef, [("shot", "shot", ""), ("efficiency", "efficiency", ".1%"),
+                           ("below the screen", "below", ".1%"),
+                           ("beside it", "beside", ".1%"),
+                           ("beyond the far plane", "beyond_far", ".1%")]), "",
+           f"Median {med:.1%}. (A vertex can be outside in more than one way.)", ""]
     targets.append(("Vertex efficiency median ≥ 0.9", f"{med:.1%}", med >= 0.9))
 
     # 6. render
@@ -240,7 +281,8 @@ def write(results, docs):
     md[6:6] = ["## Targets", "",
                _table([{"t": t, "v": v, "ok": "met" if ok else "**not met**"}
                        for t, v, ok in targets],
-                      [("target", "t", ""), ("measured", "v", ""), ("", "ok", "")]), ""]
+                      [("target", "t", ""), ("measured", "v", ""), ("", "ok", "")]), "",
+               *_missing(targets, core65, by, ef)]
     path = os.path.join(docs, "benchmarks.md")
     with open(path, "w") as f:
         f.write("\n".join(md))

@@ -1,0 +1,30 @@
+"""Reusable per-thread scratch arrays for the per-vertex passes.
+
+A fresh NumPy temporary of a few hundred kilobytes is mapped from the OS and faulted in page by
+page, and the allocator hands it back when it is freed; at 257^2 vertices that cost as much as
+the arithmetic. The passes therefore write their temporaries into buffers kept between frames,
+sized to the largest grid built so far (about 80 bytes per vertex).
+"""
+
+import math
+import threading
+
+import numpy as np
+
+_local = threading.local()
+
+
+def scratch(name, shape, dtype):
+    """A C-contiguous array of `shape` and `dtype` backed by a buffer reused across calls.
+
+    Its contents are undefined, and it is overwritten by the next call with the same `name`.
+    """
+    buffers = getattr(_local, "buffers", None)
+    if buffers is None:
+        buffers = _local.buffers = {}
+    dtype = np.dtype(dtype)
+    size = math.prod(shape) * dtype.itemsize
+    buf = buffers.get(name)
+    if buf is None or buf.size < size:
+        buf = buffers[name] = np.empty(max(size, 1), dtype=np.uint8)
+    return buf[:size].view(dtype).reshape(shape)
