@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..projgrid_addon import bridge
+from ..projgrid_addon import bridge, effects
 
 
 def active_ocean(context):
@@ -31,6 +31,16 @@ def stats_lines(obj, scene):
         ]
     if not scene.render.use_lock_interface:
         lines.append(("LOCKED", "Lock Interface is off: it is switched on at the next render"))
+    return lines
+
+
+def effect_lines(obj):
+    """(effect, mode property, "on: reason" or "off: reason") for the last built frame."""
+    decisions = bridge.STATE.get(obj.name_full, {}).get("effects") or {}
+    lines = []
+    for effect in effects.EFFECTS:
+        on, reason = decisions.get(effect, (False, "not built yet"))
+        lines.append((effect, f"{'on' if on else 'off'}: {reason}"))
     return lines
 
 
@@ -68,6 +78,13 @@ class VIEW3D_PT_projgrid_ocean(bpy.types.Panel):
         col.label(text="Render grid")
         col.prop(s, "render_resolution_x", text="X")
         col.prop(s, "render_resolution_y", text="Y")
+        layout.prop(s, "wind_speed")
+        box = layout.box()
+        box.label(text="Effects", icon="SHADING_RENDERED")
+        for effect, text in effect_lines(obj):
+            col = box.column(align=True)
+            col.prop(s, effect)
+            col.label(text=text)
         box = layout.box()
         for icon, text in stats_lines(obj, context.scene):
             box.label(text=text, icon=icon)

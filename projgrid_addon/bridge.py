@@ -12,7 +12,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 
 from ..shaders import water
 from ..shaders.nodes import TAG
-from . import Camera, HeightField, build_grid, grid_topology, grid_uv
+from . import Camera, HeightField, build_grid, effects, grid_topology, grid_uv
 from .projected_grid import check_resolution
 
 UV_MAP = "ProjectorUV"
@@ -33,6 +33,20 @@ def _settings_changed(self, context):
         update_ocean(obj, context.scene, context.evaluated_depsgraph_get(), settings=self)
 
 
+def _mode(effect, description):
+    return EnumProperty(
+        name=effect.replace("_", " ").title(), default="AUTO", update=_settings_changed,
+        description=description,
+        items=(("AUTO", "Auto", "On when the scene calls for it, decided each frame"),
+               ("ON", "On", "Always on"), ("OFF", "Off", "Always off: costs nothing")))
+
+
+def _active_effects(self):
+    """Bit set of the effects on for the last built frame (read-only `active_effects`)."""
+    decisions = STATE.get(self.id_data.name_full, {}).get("effects") or {}
+    return sum(1 << i for i, e in enumerate(effects.EFFECTS) if decisions.get(e, (False,))[0])
+
+
 def _int(name, description, default, lo, hi, soft_hi=None):
     return IntProperty(name=name, description=description, default=default, min=lo, max=hi,
                        soft_max=soft_hi or hi, update=_settings_changed)
@@ -44,7 +58,7 @@ def _float(name, description, default, lo, hi, soft_hi, unit="NONE", **kw):
 
 
 class ProjectedGridSettings(bpy.types.PropertyGroup):
-    """`obj.projgrid`: the ocean's settings (all animatable)."""
+    """`obj.projgrid`: the ocean's settings (all animatable) and the effects on this frame."""
 
     is_ocean: BoolProperty(name="Is Ocean", default=False, options={"HIDDEN"})
     resolution_x: _int("Resolution X", "Grid vertices across the screen in the viewport",
@@ -72,6 +86,24 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
         description="How heights are evaluated (docs/benchmarks.md has the cost and the error)",
         items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
                ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
+    wind_speed: _float("Wind Speed", "Wind at 10 m above the sea; sets the whitecap coverage of "
+                       "the foam (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+    foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
+    contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")
+    underwater: _mode("underwater", "Snell's window and absorption fog with the camera below "
+                      "the surface")
+    refraction: _mode("refraction", "Submerged objects seen through the surface, dimmed and "
+                      "tinted with depth")
+    caustics: _mode("caustics", "Sunlight focused by the waves onto submerged geometry")
+    godrays: _mode("godrays", "Shafts of sunlight seen from under the water")
+    local_reflections: _mode("local_reflections", "Reflections of objects above the water "
+                             "(sky only without them)")
+    sun_glint: _mode("sun_glint", "The sun's highlight on the waves")
+    active_effects: EnumProperty(
+        name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
+        description="The effects on for the current frame (read-only)",
+        items=[(e.upper(), e.replace("_", " ").title(), "", 1 << i)
+               for i, e in enumerate(effects.EFFECTS)])
 
 
 def height_field(settings):
@@ -149,34 +181,92 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         if abs(np.linalg.det(linear)) < 1e-12:
             raise ValueError("the ocean object's scale is zero")
         t = scene_time(scene)
+        hf = height_field(settings)
+        cam = Camera(*camera)
+        facts = scene_facts(obj, scene, depsgraph, cam, world[2, 3], hf, settings, render)
         key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
                world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
-               mesh.session_uid)
+               mesh.session_uid, repr(facts))
         if key == state.get("key"):
             return None
         start = time.perf_counter()
-        hf = height_field(settings)
-        result = build_grid(Camera(*camera), hf, level=world[2, 3], time=t, resolution=res,
+        result = build_grid(cam, hf, level=world[2, 3], time=t, resolution=res,
                             projector_elevation=settings.projector_elevation,
                             origin=world[:3, 3])
+        decisions = effects.decide({e: getattr(settings, e) for e in effects.EFFECTS}, facts)
         write_mesh(mesh, result, np.linalg.inv(linear))
+        write_foam(mesh, result, hf, settings, t, decisions["foam"][0])
     except ValueError as e:
         return _refuse(state, mesh, str(e))
     state.update(key=key, message=None, vertices=len(result.positions), grid=result,
-                 ms=(time.perf_counter() - start) * 1e3,
+                 ms=(time.perf_counter() - start) * 1e3, effects=decisions,
                  shader_octaves=result.shader_octaves, resolution=res, render=render)
-    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t)
+    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, decisions)
     return None
 
 
 SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
             "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-            "projector_elevation", "noise")
+            "projector_elevation", "noise", "wind_speed", *effects.EFFECTS)
+# Object types with geometry that can stand in, on or under the water.
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME",
+                  "GPENCIL", "GREASEPENCIL"}
+FOAM_ATTRIBUTE = water.FOAM_ATTRIBUTE
+
+
+def scene_objects(scene, ocean, camera, render):
+    """SceneObjects (effects.py) for the visible geometry of the scene other than oceans."""
+    found, boxes = [], []
+    for obj in scene.objects:
+        if obj.type not in GEOMETRY_TYPES or obj == ocean or obj.projgrid.is_ocean:
+            continue
+        hidden = obj.hide_render if render else obj.hide_viewport
+        if hidden:
+            continue
+        local = np.array(obj.bound_box, dtype=np.float64)  # (8, 3), evaluated geometry
+        world = np.array(obj.matrix_world, dtype=np.float64)
+        boxes.append(local @ world[:3, :3].T + world[:3, 3])
+        found.append(obj.name)
+    if not boxes:
+        return []
+    boxes = np.stack(boxes)
+    seen = effects.boxes_in_view(camera, boxes)
+    z = boxes[..., 2]
+    return [effects.SceneObject(name, float(lo), float(hi), bool(v))
+            for name, lo, hi, v in zip(found, z.min(axis=1), z.max(axis=1), seen, strict=True)]
+
+
+def scene_facts(obj, scene, depsgraph, camera, level, hf, settings, render):
+    """effects.SceneFacts of this frame: camera against the water, objects, sun, wind."""
+    sun = water.sun_lamp(scene, depsgraph)
+    elevation = None
+    if sun is not None:
+        d = np.array(sun.matrix_world.col[2][:3])  # a sun shines along its local -Z
+        elevation = float(np.degrees(np.arcsin(np.clip(d[2] / max(np.linalg.norm(d), 1e-12),
+                                                       -1.0, 1.0))))
+    needs_objects = any(getattr(settings, e) == "AUTO" for e in
+                        ("contact_foam", "refraction", "caustics", "local_reflections"))
+    objects = scene_objects(scene, obj, camera, render) if needs_objects else []
+    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
+                              wind_speed=settings.wind_speed, sun_elevation=elevation,
+                              objects=objects)
+
+
+def write_foam(mesh, result, hf, settings, t, on):
+    """The per-vertex foam of this frame (only computed while foam is on)."""
+    if not on or not result.visible:
+        return
+    coverage = max(effects.whitecap_coverage(settings.wind_speed), effects.FOAM_MIN_COVERAGE)
+    threshold = effects.foam_threshold(hf, t, coverage)
+    foam = effects.foam_amount(result.surface[2].ravel(), threshold, 0.25 * hf.amplitude)
+    if FOAM_ATTRIBUTE not in mesh.attributes:
+        mesh.attributes.new(FOAM_ATTRIBUTE, "FLOAT", "POINT")
+    mesh.attributes[FOAM_ATTRIBUTE].data.foreach_set("value", foam)
 
 
 def _refuse(state, mesh, message):
     """Record why no grid was built; our mesh (never the user's) is emptied, not left stale."""
-    state.update(key=None, message=message, vertices=0, grid=None, ms=0.0)
+    state.update(key=None, message=message, vertices=0, grid=None, ms=0.0, effects=None)
     if mesh is not None and len(mesh.vertices):
         mesh.clear_geometry()
     return message

@@ -35,19 +35,16 @@ def frame_change_post(scene, depsgraph=None):
 @persistent
 def depsgraph_update_post(scene, depsgraph):
     """In the viewport, follow edits between frames: the camera moved or retargeted, the ocean
-    moved or its settings changed. Rebuilds whose inputs are unchanged (such as the update our
-    own mesh write causes) are skipped by update_ocean, so this cannot loop."""
+    moved or its settings changed, or another object or lamp moved (the effects depend on them).
+    Rebuilds whose inputs are unchanged (such as the update our own mesh write causes) are
+    skipped by update_ocean, so this cannot loop."""
     if bridge.RENDERING["active"] or depsgraph.mode == "RENDER":
         return
     oceans = bridge.ocean_objects(scene)
     if not oceans:
         return
-    watched = {o.session_uid for o in oceans}
-    if scene.camera is not None:
-        watched |= {scene.camera.session_uid, scene.camera.data.session_uid}
-    changed = any(u.id.original.session_uid in watched for u in depsgraph.updates
-                  if isinstance(u.id, (bpy.types.Object, bpy.types.Camera)))
-    if changed or any(isinstance(u.id, bpy.types.Scene) for u in depsgraph.updates):
+    kinds = (bpy.types.Object, bpy.types.Camera, bpy.types.Light, bpy.types.Scene)
+    if any(isinstance(u.id, kinds) for u in depsgraph.updates):
         for obj in oceans:
             bridge.update_ocean(obj, scene, depsgraph)
 

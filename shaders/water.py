@@ -19,8 +19,12 @@ from .nodes import TAG, Graph, empty_tree
 
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
-VERSION = 2  # stored in the TAG property; a group of another version is rebuilt
+VERSION = 3  # stored in the TAG property; a group of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
+FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
+# The node that joins each effect's branch to the water; muted while the effect is off, so the
+# branch is not compiled or evaluated (a muted mix or add shader passes its first shader on).
+EFFECT_NODES = {"foam": "Foam", "sun_glint": "Sun Glint"}
 
 INPUTS = (  # name, socket type, default; the last group is written by the frame handler
     ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
@@ -106,6 +110,7 @@ def _build(group):
     sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0,
                                           "Normal": normal})
     reflection = g.node("ShaderNodeAddShader", {0: sky.outputs[0], 1: glint.outputs[0]})
+    reflection.name = EFFECT_NODES["sun_glint"]
     # Refraction: the water colour seen from above; from below (back faces) the sky through
     # Snell's window (the BSDF inverts the IOR on back faces itself).
     body = g.node("ShaderNodeEmission", {"Color": i["Water Colour"], "Strength": 1.0})
@@ -116,7 +121,13 @@ def _build(group):
                                                 2: window.outputs[0]})
     result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
                                             2: reflection.outputs[0]})
-    g.set(out.inputs["Shader"], result.outputs[0])
+    # Foam (Jensen and Golias): a rough white cover where the crests carry it.
+    foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
+    cover = g.node("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0), "Normal": normal})
+    with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
+                                               2: cover.outputs[0]})
+    with_foam.name = EFFECT_NODES["foam"]
+    g.set(out.inputs["Shader"], with_foam.outputs[0])
     g.set(out.inputs["Fresnel"], fresnel)
 
 
@@ -146,14 +157,16 @@ def sun_lamp(scene, depsgraph):
     return None
 
 
-def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time):
-    """Per frame: the sun and the left-out octaves into the group node of our material."""
+def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time, decisions=None):
+    """Per frame: the sun, the left-out octaves and the effects on into our material's group."""
     mat = obj.data.materials[0] if len(obj.data.materials) else None
     if mat is None or not mat.get(TAG) or not mat.node_tree:
         return
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
+    if decisions is not None and node.node_tree is not None and node.node_tree.get(TAG):
+        set_effects(node.node_tree, {e: on for e, (on, _) in decisions.items()})
     inputs = node.inputs
     sun = sun_lamp(scene, depsgraph)
     if sun is not None:
@@ -170,6 +183,15 @@ def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time):
     _set(inputs["Detail Roughness"], min(hf.roughness, 1.0))
     _set(inputs["Detail Height"], hf.amplitude * hf.roughness**first if count else 0.0)
     _set(inputs["Detail Time"], float(hf.time_coordinate(first, time)))
+
+
+def set_effects(group, on):
+    """Mute the branch of each effect that is off (only on change: a change recompiles)."""
+    for effect, name in EFFECT_NODES.items():
+        node = group.nodes.get(name)
+        mute = not on.get(effect, False)
+        if node is not None and node.mute != mute:
+            node.mute = mute
 
 
 def _set(socket, value):
