@@ -46,6 +46,8 @@ def main(quick=False, only=None):
             sizes=(33, 65) if quick else (33, 65, 129, 257),
             world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),
             image=(48, 27) if quick else (96, 54))),
+        ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
+        ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
         ("render", lambda: blender_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),

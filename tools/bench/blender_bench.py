@@ -153,3 +153,61 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
                          "rms_error": float(np.sqrt(np.mean((img - ref) ** 2)))})
     ocean.data.materials[0] = water
     return rows
+
+
+EFFECT_VARIANTS = {  # name: modes set on the ocean (the rest stay AUTO)
+    "everything off": dict.fromkeys(("foam", "contact_foam", "underwater", "refraction",
+                                     "caustics", "godrays", "local_reflections", "sun_glint"),
+                                    "OFF"),
+    "bare ocean, auto": {},
+    "foam on": {"foam": "ON"},
+}
+
+
+def _set_modes(scene, modes):
+    ocean = next(o for o in scene.objects if o.type == "MESH" and o.projgrid.is_ocean)
+    for effect in EFFECT_VARIANTS["everything off"]:
+        setattr(ocean.projgrid, effect, modes.get(effect, "AUTO"))
+    return ocean
+
+
+def effect_cost(n=257, repeats=15):
+    """Per-frame rebuild time of the same ocean with its effects off, at AUTO (a bare ocean: only
+    the sun glint is called for) and with foam on, measured interleaved."""
+    scenes = {}
+    for name, modes in EFFECT_VARIANTS.items():
+        scenes[name] = projected_scene(n)
+        _set_modes(scenes[name], modes)
+    times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
+    rows = []
+    for name, seconds in times.items():
+        ocean = next(o for o in scenes[name].objects if o.type == "MESH")
+        rows.append({"variant": name, "ms": seconds * 1e3,
+                     "active": sorted(ocean.projgrid.active_effects)})
+    for s in scenes.values():
+        bpy.data.scenes.remove(s)
+    return rows
+
+
+def effect_render_cost(size=(320, 180), samples=4, repeats=3):
+    """EEVEE render time of the default shot per effect variant (each variant compiles its own
+    shader first, not counted; renders are sequential because a variant change recompiles)."""
+    from tools.demo import default_shot
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    default_shot(scene, size=size, samples=samples)
+    tmp = tempfile.mkdtemp(prefix="projgrid-bench-")
+    scene.render.filepath = os.path.join(tmp, "effect.png")
+    rows = []
+    for name, modes in EFFECT_VARIANTS.items():
+        _set_modes(scene, modes)
+        scene.frame_set(12)
+        bpy.ops.render.render(write_still=True)  # compile this variant's shader
+        times = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            bpy.ops.render.render(write_still=True)
+            times.append(time.perf_counter() - start)
+        rows.append({"variant": name, "seconds": float(np.median(times))})
+    return rows
