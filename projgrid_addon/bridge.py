@@ -201,7 +201,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
     state.update(key=key, message=None, vertices=len(result.positions), grid=result,
                  ms=(time.perf_counter() - start) * 1e3, effects=decisions,
                  shader_octaves=result.shader_octaves, resolution=res, render=render)
-    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, decisions)
+    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, effects_in_use())
     return None
 
 
@@ -253,8 +253,11 @@ def scene_facts(obj, scene, depsgraph, camera, level, hf, settings, render):
 
 
 def write_foam(mesh, result, hf, settings, t, on):
-    """The per-vertex foam of this frame (only computed while foam is on)."""
+    """The per-vertex foam of this frame (only computed while foam is on; when it goes off the
+    attribute goes too, so a branch another ocean keeps unmuted cannot show stale foam)."""
     if not on or not result.visible:
+        if FOAM_ATTRIBUTE in mesh.attributes:
+            mesh.attributes.remove(mesh.attributes[FOAM_ATTRIBUTE])
         return
     coverage = max(effects.whitecap_coverage(settings.wind_speed), effects.FOAM_MIN_COVERAGE)
     threshold = effects.foam_threshold(hf, t, coverage)
@@ -262,6 +265,19 @@ def write_foam(mesh, result, hf, settings, t, on):
     if FOAM_ATTRIBUTE not in mesh.attributes:
         mesh.attributes.new(FOAM_ATTRIBUTE, "FLOAT", "POINT")
     mesh.attributes[FOAM_ATTRIBUTE].data.foreach_set("value", foam)
+
+
+def effects_in_use():
+    """{effect: (on, "")}: on if on for any ocean built, since every ocean shares the water group
+    whose branches are muted by it."""
+    on = dict.fromkeys(effects.EFFECTS, False)
+    for name, state in STATE.items():
+        obj = bpy.data.objects.get(name)
+        if obj is None or not obj.projgrid.is_ocean:
+            continue
+        for effect, (active, _) in (state.get("effects") or {}).items():
+            on[effect] = on[effect] or active
+    return {effect: (active, "") for effect, active in on.items()}
 
 
 def _refuse(state, mesh, message):

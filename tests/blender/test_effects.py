@@ -74,6 +74,18 @@ def test_wind_brings_foam_and_calm_computes_none(ocean, bridge, monkeypatch):
     assert not group().nodes["Foam"].mute
     ocean.projgrid.foam = "OFF"
     assert "FOAM" not in ocean.projgrid.active_effects and group().nodes["Foam"].mute
+    assert "projgrid_foam" not in ocean.data.attributes
+
+
+def test_the_shared_water_group_keeps_a_branch_any_ocean_needs(ocean):
+    windy = add_ocean()  # a second ocean, same material and group
+    windy.projgrid.wind_speed = 15.0
+    assert "FOAM" in windy.projgrid.active_effects and not group().nodes["Foam"].mute
+    ocean.projgrid.seed = 1  # only the calm ocean rebuilds; it must not mute the windy one's foam
+    assert "FOAM" not in ocean.projgrid.active_effects
+    assert not group().nodes["Foam"].mute
+    windy.projgrid.foam = "OFF"
+    assert group().nodes["Foam"].mute
 
 
 def test_objects_decide_reflections_and_what_is_not_rendered_yet(ocean):
