@@ -241,9 +241,7 @@ def scene_facts(obj, scene, depsgraph, camera, level, hf, settings, render):
     sun = water.sun_lamp(scene, depsgraph)
     elevation = None
     if sun is not None:
-        d = np.array(sun.matrix_world.col[2][:3])  # a sun shines along its local -Z
-        elevation = float(np.degrees(np.arcsin(np.clip(d[2] / max(np.linalg.norm(d), 1e-12),
-                                                       -1.0, 1.0))))
+        elevation = float(np.degrees(np.arcsin(np.clip(water.sun_direction(sun)[2], -1.0, 1.0))))
     needs_objects = any(getattr(settings, e) == "AUTO" for e in
                         ("contact_foam", "refraction", "caustics", "local_reflections"))
     objects = scene_objects(scene, obj, camera, render) if needs_objects else []
@@ -268,7 +266,7 @@ def write_foam(mesh, result, hf, settings, t, on):
 
 
 def effects_in_use():
-    """{effect: (on, "")}: on if on for any ocean built, since every ocean shares the water group
+    """{effect: on}: on if on for any ocean built, since every ocean shares the water group
     whose branches are muted by it."""
     on = dict.fromkeys(effects.EFFECTS, False)
     for name, state in STATE.items():
@@ -277,7 +275,7 @@ def effects_in_use():
             continue
         for effect, (active, _) in (state.get("effects") or {}).items():
             on[effect] = on[effect] or active
-    return {effect: (active, "") for effect, active in on.items()}
+    return on
 
 
 def _refuse(state, mesh, message):

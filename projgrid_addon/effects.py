@@ -61,8 +61,8 @@ def _names(objects, limit=2):
     return ", ".join(names) + (f" and {more} more" if more > 0 else "")
 
 
-def _auto(effect, facts):
-    """(needed, reason) for one effect at AUTO."""
+def _auto(facts):
+    """{effect: (needed, reason)} at AUTO, from the facts sorted once for every effect."""
     level_hi, level_lo = facts.bound, -facts.bound
     in_view = [o for o in facts.objects if o.in_view]
     crossing = [o for o in in_view if o.z_min < level_hi and o.z_max > level_lo]
@@ -74,41 +74,39 @@ def _auto(effect, facts):
     sun_up = sun is not None and sun > 0.0
     sun_text = ("no sun lamp" if sun is None else
                 f"sun {sun:.0f}° {'above' if sun > 0 else 'below'} the horizon")
-    if effect == "foam":
-        cover = whitecap_coverage(facts.wind_speed)
-        text = f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"
-        return cover >= FOAM_MIN_COVERAGE, text
-    if effect == "contact_foam":
-        if crossing:
-            return True, f"{_names(crossing)} crosses the surface in view"
-        return False, "nothing in view crosses the surface"
-    if effect == "underwater":
-        return under, depth
-    if effect == "refraction":
-        if under:
-            return False, f"{depth} (the underwater view shows what is below)"
-        if below:
-            return True, f"{_names(below)} is below the surface in view"
-        return False, "nothing in view is below the surface"
-    if effect == "caustics":
-        if not sun_up:
-            return False, sun_text
-        if below:
-            return True, f"{sun_text}, {_names(below)} is below the surface in view"
-        return False, "nothing in view is below the surface to receive them"
-    if effect == "godrays":
-        if not under:
-            return False, depth
-        return sun_up, f"{depth}, {sun_text}"
-    if effect == "local_reflections":
-        if under:
-            return False, depth
-        if above:
-            return True, f"{_names(above)} stands above the water in view"
-        return False, "sky only: nothing stands above the water in view"
-    if effect == "sun_glint":
-        return sun_up, sun_text
-    raise ValueError(f"effect: unknown effect {effect!r}")
+    cover = whitecap_coverage(facts.wind_speed)
+    below_text = f"{_names(below)} is below the surface in view"
+
+    if under:
+        refraction = (False, f"{depth} (the underwater view shows what is below)")
+    elif below:
+        refraction = (True, below_text)
+    else:
+        refraction = (False, "nothing in view is below the surface")
+    if not sun_up:
+        caustics = (False, sun_text)
+    elif below:
+        caustics = (True, f"{sun_text}, {below_text}")
+    else:
+        caustics = (False, "nothing in view is below the surface to receive them")
+    if under:
+        reflections = (False, depth)
+    elif above:
+        reflections = (True, f"{_names(above)} stands above the water in view")
+    else:
+        reflections = (False, "sky only: nothing stands above the water in view")
+    return {
+        "foam": (cover >= FOAM_MIN_COVERAGE,
+                 f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"),
+        "contact_foam": ((True, f"{_names(crossing)} crosses the surface in view") if crossing
+                         else (False, "nothing in view crosses the surface")),
+        "underwater": (under, depth),
+        "refraction": refraction,
+        "caustics": caustics,
+        "godrays": (sun_up, f"{depth}, {sun_text}") if under else (False, depth),
+        "local_reflections": reflections,
+        "sun_glint": (sun_up, sun_text),
+    }
 
 
 def decide(modes, facts):
@@ -117,6 +115,7 @@ def decide(modes, facts):
     Only effects in RENDERED can be on; the reason of another says it is not drawn yet.
     """
     decisions = {}
+    auto = None
     for effect in EFFECTS:
         mode = modes.get(effect, "AUTO")
         if mode not in MODES:
@@ -126,7 +125,8 @@ def decide(modes, facts):
         elif mode == "ON":
             on, reason = True, "switched on"
         else:
-            on, reason = _auto(effect, facts)
+            auto = auto or _auto(facts)
+            on, reason = auto[effect]
         if on and effect not in RENDERED:
             decisions[effect] = (False, f"needed ({reason}) but not rendered yet")
         else:

@@ -27,15 +27,17 @@ MAX_OCTAVES = 24
 METHODS = ("exact", "fast")
 
 
-def octave_weights(lod, octave):
-    """Band-limit weight of `octave` at per-point level of detail `lod` (None: no band limit).
+def octave_weights(lod, octave, out=None):
+    """Band-limit weight of `octave` at per-point level of detail `lod` (None: no band limit),
+    into `out` if given.
 
     lod = log2(scale / (2 * spacing)): octave i is kept whole while its wavelength is at least four
     grid spacings and faded out linearly (in octaves) until it is two spacings, the Nyquist limit.
     """
     if lod is None:
         return None
-    return np.clip(lod - octave, 0.0, 1.0)
+    w = np.subtract(lod, octave, out=out)
+    return np.clip(w, 0.0, 1.0, out=w)
 
 
 class NoiseTiles:
@@ -240,9 +242,7 @@ class HeightField:
             else:
                 n = self._tiles.sample(i, z, xy2[:, band], inv, gain)
             if weighted:
-                w = scratch("weights", lod2[band].shape, lod2.dtype)
-                np.subtract(lod2[band], i, out=w)
-                np.clip(w, 0.0, 1.0, out=w)  # octave_weights, in place
-                n *= w
+                n *= octave_weights(lod2[band], i,
+                                    scratch("weights", lod2[band].shape, lod2.dtype))
             out[band] += n
 

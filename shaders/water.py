@@ -157,21 +157,27 @@ def sun_lamp(scene, depsgraph):
     return None
 
 
-def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time, decisions=None):
-    """Per frame: the sun, the left-out octaves and the effects on into our material's group."""
+def sun_direction(sun):
+    """Unit vector towards an (evaluated) sun lamp: it shines along its local -Z."""
+    direction = np.array(sun.matrix_world.col[2][:3])
+    return direction / max(np.linalg.norm(direction), 1e-12)
+
+
+def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time, effects_on=None):
+    """Per frame: the sun, the left-out octaves and which effects are on ({effect: bool}) into
+    our material's group."""
     mat = obj.data.materials[0] if len(obj.data.materials) else None
     if mat is None or not mat.get(TAG) or not mat.node_tree:
         return
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
-    if decisions is not None and node.node_tree is not None and node.node_tree.get(TAG):
-        set_effects(node.node_tree, {e: on for e, (on, _) in decisions.items()})
+    if effects_on is not None and node.node_tree is not None and node.node_tree.get(TAG):
+        set_effects(node.node_tree, effects_on)
     inputs = node.inputs
     sun = sun_lamp(scene, depsgraph)
     if sun is not None:
-        direction = np.array(sun.matrix_world.col[2][:3])  # a sun shines along its local -Z
-        direction /= max(np.linalg.norm(direction), 1e-12)
+        direction = sun_direction(sun)
         _set(inputs["Sun Direction"], tuple(direction))
         _set(inputs["Sun Colour"], (*sun.data.color, 1.0))
     _set(inputs["Sun Visible"], 1.0 if sun is not None and direction[2] > 0.0 else 0.0)

@@ -11,6 +11,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 from projgrid_addon import Camera, HeightField
+from projgrid_addon.effects import EFFECTS
 from tools.demo import MODULE, add_camera
 
 from .core_bench import WAVES, interleaved, visible_extent, world_grid_points
@@ -156,9 +157,7 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
 
 
 EFFECT_VARIANTS = {  # name: modes set on the ocean (the rest stay AUTO)
-    "everything off": dict.fromkeys(("foam", "contact_foam", "underwater", "refraction",
-                                     "caustics", "godrays", "local_reflections", "sun_glint"),
-                                    "OFF"),
+    "everything off": dict.fromkeys(EFFECTS, "OFF"),
     "bare ocean, auto": {},
     "foam on": {"foam": "ON"},
 }
@@ -166,7 +165,7 @@ EFFECT_VARIANTS = {  # name: modes set on the ocean (the rest stay AUTO)
 
 def _set_modes(scene, modes):
     ocean = next(o for o in scene.objects if o.type == "MESH" and o.projgrid.is_ocean)
-    for effect in EFFECT_VARIANTS["everything off"]:
+    for effect in EFFECTS:
         setattr(ocean.projgrid, effect, modes.get(effect, "AUTO"))
     return ocean
 
