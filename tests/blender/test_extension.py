@@ -81,7 +81,11 @@ def test_settings_are_refused_outside_their_range():
     s.amplitude = -3.0
     s.octaves = 100
     s.resolution_x = 1
-    assert s.amplitude == 0.0 and s.octaves == 24 and s.resolution_x == 2
+    s.wind_speed = -5.0
+    assert s.amplitude == 0.0 and s.octaves == 24 and s.resolution_x == 2 and s.wind_speed == 0.0
+    with pytest.raises(TypeError, match="SOMETIMES"):
+        s.foam = "SOMETIMES"
+    assert s.foam == "AUTO"
 
 
 def test_settings_rebuild_and_are_honoured(bridge):
