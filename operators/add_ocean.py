@@ -34,6 +34,7 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         if hasattr(obj, "cycles"):
             obj.cycles.use_deform_motion = False
         collection.objects.link(obj)
+        bridge.ensure_companions(obj)
 
         added = []
         if scene.world is None:

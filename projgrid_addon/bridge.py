@@ -99,6 +99,10 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     local_reflections: _mode("local_reflections", "Reflections of objects above the water "
                              "(sky only without them)")
     sun_glint: _mode("sun_glint", "The sun's highlight on the waves")
+    water_body: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                description="Our water body volume (underwater, refraction)")
+    shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                   description="Our object casting the water's caustic shadow")
     active_effects: EnumProperty(
         name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
         description="The effects on for the current frame (read-only)",
@@ -194,14 +198,20 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
                             projector_elevation=settings.projector_elevation,
                             origin=world[:3, 3])
         decisions = effects.decide({e: getattr(settings, e) for e in effects.EFFECTS}, facts)
+        on = {e: d[0] for e, d in decisions.items()}
         write_mesh(mesh, result, np.linalg.inv(linear))
-        write_foam(mesh, result, hf, settings, t, decisions["foam"][0])
+        write_foam(mesh, result, hf, settings, t, on, facts, world[2, 3])
+        write_caustics(mesh, result, facts, on)
     except ValueError as e:
         return _refuse(state, mesh, str(e))
     state.update(key=key, message=None, vertices=len(result.positions), grid=result,
                  ms=(time.perf_counter() - start) * 1e3, effects=decisions,
                  shader_octaves=result.shader_octaves, resolution=res, render=render)
-    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, effects_in_use())
+    in_use = effects_in_use()
+    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, in_use)
+    if not render and not RENDERING["active"]:
+        ensure_companions(obj)
+    place_companions(obj, cam.position, world[2, 3], on, scene, in_use)
     return None
 
 
@@ -215,10 +225,12 @@ FOAM_ATTRIBUTE = water.FOAM_ATTRIBUTE
 
 
 def scene_objects(scene, ocean, camera, render):
-    """SceneObjects (effects.py) for the visible geometry of the scene other than oceans."""
+    """SceneObjects (effects.py) for the visible geometry of the scene other than oceans and
+    our own objects."""
     found, boxes = [], []
     for obj in scene.objects:
-        if obj.type not in GEOMETRY_TYPES or obj == ocean or obj.projgrid.is_ocean:
+        if (obj.type not in GEOMETRY_TYPES or obj == ocean or obj.projgrid.is_ocean
+                or owns(obj)):
             continue
         hidden = obj.hide_render if render else obj.hide_viewport
         if hidden:
@@ -232,37 +244,149 @@ def scene_objects(scene, ocean, camera, render):
     boxes = np.stack(boxes)
     seen = effects.boxes_in_view(camera, boxes)
     z = boxes[..., 2]
-    return [effects.SceneObject(name, float(lo), float(hi), bool(v))
-            for name, lo, hi, v in zip(found, z.min(axis=1), z.max(axis=1), seen, strict=True)]
+    return [effects.SceneObject(name, float(lo), float(hi), bool(v), box)
+            for name, lo, hi, v, box in zip(found, z.min(axis=1), z.max(axis=1), seen, boxes,
+                                            strict=True)]
 
 
 def scene_facts(obj, scene, depsgraph, camera, level, hf, settings, render):
-    """effects.SceneFacts of this frame: camera against the water, objects, sun, wind."""
+    """effects.SceneFacts of this frame: camera against the water, objects, sun, wind.
+    Object heights are relative to the water level, as the camera's."""
     sun = water.sun_lamp(scene, depsgraph)
-    elevation = None
+    elevation = direction = None
     if sun is not None:
-        elevation = float(np.degrees(np.arcsin(np.clip(water.sun_direction(sun)[2], -1.0, 1.0))))
+        direction = tuple(water.sun_direction(sun))
+        elevation = float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
     needs_objects = any(getattr(settings, e) == "AUTO" for e in
                         ("contact_foam", "refraction", "caustics", "local_reflections"))
+    needs_objects = needs_objects or any(getattr(settings, e) == "ON" for e in
+                                         ("contact_foam", "caustics"))
     objects = scene_objects(scene, obj, camera, render) if needs_objects else []
+    for o in objects:
+        o.z_min, o.z_max = o.z_min - level, o.z_max - level
     return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
                               wind_speed=settings.wind_speed, sun_elevation=elevation,
-                              objects=objects)
+                              objects=objects, sun_direction=direction)
 
 
-def write_foam(mesh, result, hf, settings, t, on):
-    """The per-vertex foam of this frame (only computed while foam is on; when it goes off the
-    attribute goes too, so a branch another ocean keeps unmuted cannot show stale foam)."""
-    if not on or not result.visible:
-        if FOAM_ATTRIBUTE in mesh.attributes:
-            mesh.attributes.remove(mesh.attributes[FOAM_ATTRIBUTE])
+def write_attribute(mesh, name, values):
+    """Our per-vertex float attribute `name` set to `values`, or removed when None (so a branch
+    another ocean keeps unmuted cannot show stale values)."""
+    if values is None:
+        if name in mesh.attributes:
+            mesh.attributes.remove(mesh.attributes[name])
         return
-    coverage = max(effects.whitecap_coverage(settings.wind_speed), effects.FOAM_MIN_COVERAGE)
-    threshold = effects.foam_threshold(hf, t, coverage)
-    foam = effects.foam_amount(result.surface[2].ravel(), threshold, 0.25 * hf.amplitude)
-    if FOAM_ATTRIBUTE not in mesh.attributes:
-        mesh.attributes.new(FOAM_ATTRIBUTE, "FLOAT", "POINT")
-    mesh.attributes[FOAM_ATTRIBUTE].data.foreach_set("value", foam)
+    if name not in mesh.attributes:
+        mesh.attributes.new(name, "FLOAT", "POINT")
+    mesh.attributes[name].data.foreach_set("value", values)
+
+
+def contact_foam_width(hf):
+    """How far contact foam reaches from an object: half a metre plus the waves' bound."""
+    return 0.5 + hf.bound
+
+
+def write_foam(mesh, result, hf, settings, t, on, facts, level):
+    """The per-vertex foam of this frame: crests (foam) and rings around the objects crossing
+    the surface (contact foam), each computed only while on."""
+    foam = None
+    if result.visible and on["foam"]:
+        coverage = max(effects.whitecap_coverage(settings.wind_speed), effects.FOAM_MIN_COVERAGE)
+        threshold = effects.foam_threshold(hf, t, coverage)
+        foam = effects.foam_amount(result.surface[2].ravel(), threshold, 0.25 * hf.amplitude)
+    if result.visible and on["contact_foam"]:
+        x, y, h = result.surface
+        ring = effects.contact_foam(x, y, h + level, effects.crossing_boxes(facts),
+                                    contact_foam_width(hf))
+        foam = ring if foam is None else np.maximum(foam, ring)
+    write_attribute(mesh, FOAM_ATTRIBUTE, foam)
+
+
+def write_caustics(mesh, result, facts, on):
+    """The caustic shadow (Fleck Eq. 28), while caustics or the godrays they drive are on."""
+    values = None
+    if result.visible and (on["caustics"] or on["godrays"]) and facts.sun_direction is not None:
+        intensity = effects.caustic_intensity(result.surface, facts.sun_direction,
+                                              effects.receiving_depth(facts))
+        values = effects.caustic_shadow(intensity) - np.float32(effects.CAUSTIC_MEAN)
+    write_attribute(mesh, water.CAUSTIC_ATTRIBUTE, values)
+
+
+COMPANIONS = {  # setting: (name suffix, effects that show it)
+    "water_body": (" Water Body", ("underwater", "refraction")),
+    # Light passes the water: the ocean casts no shadow of its own while this one is shown.
+    "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
+}
+
+
+def _new_companion(obj, prop, name):
+    """The data of a new companion: a closed unit box, or the ocean's own mesh (the caster draws
+    it again with our shadow material, linked to the object)."""
+    if prop == "water_body":
+        data = bpy.data.meshes.new(name)
+        data.from_pydata([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], [],
+                         [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
+                          (1, 5, 7, 3)])
+        data.materials.append(water.body_material())
+        data[TAG] = True
+        return data
+    return obj.data
+
+
+def ensure_companions(obj):
+    """Our water body and shadow caster for an ocean, made hidden if missing (never in a
+    render: the render's depsgraph is built from what exists at render_init)."""
+    settings = obj.projgrid
+    collection = obj.users_collection[0] if obj.users_collection else None
+    if collection is None:
+        return
+    for prop, (suffix, _) in COMPANIONS.items():
+        current = getattr(settings, prop)
+        if current is not None and owns(current) and current.name in bpy.data.objects:
+            continue
+        companion = bpy.data.objects.new(obj.name + suffix, _new_companion(obj, prop,
+                                                                           obj.name + suffix))
+        companion[TAG] = True
+        companion.hide_render = companion.hide_viewport = True
+        companion.hide_select = True
+        if prop == "water_body":
+            companion.visible_shadow = False
+        if prop == "shadow_caster":
+            companion.parent = obj
+            for slot in companion.material_slots:
+                slot.link = "OBJECT"
+                slot.material = water.shadow_material()
+            for ray in ("camera", "diffuse", "glossy", "transmission", "volume_scatter"):
+                setattr(companion, f"visible_{ray}", False)
+        collection.objects.link(companion)
+        setattr(settings, prop, companion)
+
+
+def place_companions(obj, eye, level, on, scene, in_use):
+    """Show each companion only while an effect needs it (hidden, it costs nothing), centred
+    under the camera at the water level and as wide as EEVEE draws volumes."""
+    reach = float(scene.eevee.volumetric_end) if hasattr(scene, "eevee") else 100.0
+    for prop, (_, needed_by) in COMPANIONS.items():
+        companion = getattr(obj.projgrid, prop)
+        if companion is None or not owns(companion):
+            continue
+        hide = not any(on[e] for e in needed_by)
+        if companion.hide_render != hide:
+            companion.hide_render = hide
+        if companion.hide_viewport != hide:
+            companion.hide_viewport = hide
+        if prop == "shadow_caster":
+            if obj.visible_shadow != hide:
+                obj.visible_shadow = hide
+            continue
+        if hide:
+            continue
+        location, scale = (eye[0], eye[1], level - reach), (reach, reach, reach)  # the body
+        if not np.allclose(companion.location, location) or not np.allclose(companion.scale,
+                                                                             scale):
+            companion.location, companion.scale = location, scale
+        if prop == "water_body" and companion.data.materials[0] is not None:
+            water.set_effects(companion.data.materials[0].node_tree, in_use, water.BODY_NODES)
 
 
 def effects_in_use():

@@ -3,37 +3,52 @@
 Each effect is AUTO, ON or OFF per ocean. AUTO decides each frame from `SceneFacts`: where the
 camera is against the water, which objects in view stand above, below or across the surface,
 whether a sun shines from above the horizon, and the wind. Every decision carries the reason the
-panel shows. Effects not in `RENDERED` are decided but not drawn yet: they are never listed as
-active, and their reason says so.
+panel shows. Effects in NOT_RENDERED are decided but not drawn yet.
 
 Foam follows Jensen and Golias (crests) with the whitecap coverage of Monahan and Mac Niocaill
 (Fleck Eq. 32) for the wind: the crest threshold is the height exceeded by that share of the sea,
 so foam is a function of the frame alone (a farm splitting frames renders the same foam).
+Contact foam rings the objects that cross the surface. Caustics are the refracted-beam intensity
+of Jensen and Golias (Fleck Eq. 28) per vertex, for a receiving depth; the bridge turns them into
+the water's shadow transparency, so the scene's sun projects them onto whatever lies below.
+Under water, light is absorbed per channel with distance, e^(-a d) (Fleck Eq. 17), and scattered
+toward the water colour (Eq. 14).
 """
 
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .projected_grid import grid_normals, grid_tangents
 from .validation import finite, non_negative
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
            "local_reflections", "sun_glint")
 MODES = ("AUTO", "ON", "OFF")
-RENDERED = frozenset({"foam", "sun_glint"})
+# Decided but not drawn yet: never active, and the reason says so. Local reflections: EEVEE's
+# screen-space tracing missed the objects in our tests, and a planar light probe at the water
+# level left dark patches wherever the waves dip below it (see the issue notes).
+NOT_RENDERED = frozenset({"local_reflections"})
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
+# Absorption a (1/m) per RGB channel of clear coastal sea water (Fleck Eq. 17): red light is
+# gone after a few metres, blue travels tens.
+ABSORPTION = (0.45, 0.09, 0.06)
+# Caustic shadow transparency of flat water; focused light rises to 1 (the most a shadow passes).
+CAUSTIC_MEAN = 0.5
 
 
 @dataclass
 class SceneObject:
-    """An object's world-space bounding box against the view and the water."""
+    """An object's bounding box against the view and the water: heights relative to the water
+    level, corners in world space."""
 
     name: str
     z_min: float
     z_max: float
     in_view: bool
+    corners: np.ndarray | None = None  # (8, 3) world box corners in Blender's bound_box order
 
 
 @dataclass
@@ -45,6 +60,7 @@ class SceneFacts:
     wind_speed: float  # m/s at 10 m
     sun_elevation: float | None  # degrees above the horizon; None: no sun lamp
     objects: list = field(default_factory=list)  # SceneObject
+    sun_direction: tuple | None = None  # unit vector towards the sun
 
 
 def whitecap_coverage(wind_speed, water_minus_air=0.0):
@@ -66,7 +82,7 @@ def _auto(facts):
     level_hi, level_lo = facts.bound, -facts.bound
     in_view = [o for o in facts.objects if o.in_view]
     crossing = [o for o in in_view if o.z_min < level_hi and o.z_max > level_lo]
-    below = [o for o in in_view if o.z_min < level_hi]
+    below = _submerged(facts)
     above = [o for o in in_view if o.z_max > level_lo]
     under = facts.camera_height < 0.0
     depth = f"camera {abs(facts.camera_height):.3g} m {'below' if under else 'above'} the surface"
@@ -110,10 +126,8 @@ def _auto(facts):
 
 
 def decide(modes, facts):
-    """{effect: (on, reason)} for every effect; `modes` maps effects to AUTO/ON/OFF (default AUTO).
-
-    Only effects in RENDERED can be on; the reason of another says it is not drawn yet.
-    """
+    """{effect: (on, reason)} for every effect; `modes` maps effects to AUTO, ON or OFF (AUTO
+    when missing). Effects in NOT_RENDERED are never on."""
     decisions = {}
     auto = None
     for effect in EFFECTS:
@@ -127,10 +141,9 @@ def decide(modes, facts):
         else:
             auto = auto or _auto(facts)
             on, reason = auto[effect]
-        if on and effect not in RENDERED:
-            decisions[effect] = (False, f"needed ({reason}) but not rendered yet")
-        else:
-            decisions[effect] = (on, reason)
+        if on and effect in NOT_RENDERED:
+            on, reason = False, f"needed ({reason}) but not rendered yet"
+        decisions[effect] = (on, reason)
     return decisions
 
 
@@ -172,3 +185,85 @@ def foam_amount(heights, threshold, softness):
     foam = np.subtract(heights, threshold, dtype=np.float32)
     foam *= np.float32(1.0 / softness)
     return np.clip(foam, 0.0, 1.0, out=foam)
+
+
+def _submerged(facts):
+    return [o for o in facts.objects if o.in_view and o.z_min < facts.bound]
+
+
+def crossing_boxes(facts):
+    """(M, 8, 3) corners of the objects in view that cross the surface (for contact foam)."""
+    boxes = [o.corners for o in facts.objects if o.in_view and o.corners is not None
+             and o.z_min < facts.bound and o.z_max > -facts.bound]
+    return np.array(boxes, dtype=np.float64).reshape(-1, 8, 3)
+
+
+def contact_foam(x, y, z, boxes, width):
+    """Per-vertex foam in [0, 1] around boxes crossing the water: 1 at a box, fading to 0 at
+    `width` metres from it. Points and box corners are world space relative to one origin.
+
+    The distance is to the box itself, in its own frame: Blender's bound_box corners 0, 4, 3, 1
+    are its origin and its x, y, z edges, which stay orthogonal under rotation and scale.
+    """
+    width = max(float(width), 1e-6)
+    p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1)
+    foam = np.zeros(len(p), dtype=np.float32)
+    for corners in np.asarray(boxes, dtype=np.float64).reshape(-1, 8, 3):
+        origin = corners[0]
+        edges = corners[[4, 3, 1]] - origin  # (3, 3)
+        length2 = np.einsum("ij,ij->i", edges, edges)
+        t = (p - origin) @ edges.T / np.where(length2 > 0.0, length2, 1.0)
+        nearest = origin + np.clip(t, 0.0, 1.0) @ edges
+        near = np.clip(1.0 - np.linalg.norm(p - nearest, axis=-1) / width, 0.0, 1.0)
+        np.maximum(foam, near * near, out=foam, casting="unsafe")
+    return foam
+
+
+def receiving_depth(facts):
+    """Depth (m, > 0) the caustics are focused for: the median mid-depth of the submerged parts
+    of the objects in view (Jensen and Golias assume one receiving depth); 2 m without any."""
+    below = _submerged(facts)
+    if not below:
+        return 2.0
+    mid = [-(o.z_min + min(o.z_max, 0.0)) / 2.0 for o in below]
+    return float(max(np.median(mid), 0.1))
+
+
+def refract(d, n, eta):
+    """Snell's law in vector form (Fleck §2.1.2): direction `d` through a surface of unit normal
+    `n` (facing against d) with relative index `eta`, on (..., 3) arrays (no total internal
+    reflection from air into water)."""
+    c = -np.sum(d * n, axis=-1, keepdims=True)
+    k = np.maximum(1.0 - eta * eta * (1.0 - c * c), 0.0)
+    return eta * d + (eta * c - np.sqrt(k)) * n
+
+
+def caustic_intensity(surface, sun_direction, depth, ior=1.333):
+    """Per-vertex caustic intensity relative to flat water (Fleck Eq. 28, Jensen and Golias).
+
+    Each vertex's sun ray is refracted at the surface and carried to the plane `depth` metres
+    below the water level; the intensity is the sun's flux through the surface element,
+    L.(dP/du x dP/dv), over the area the refracted beam covers there, divided by L_z (what flat
+    water gives). `surface` is GridResult.surface: (x, y, height above level), (ny, nx) arrays.
+    """
+    x, y, h = surface
+    sun = np.asarray(sun_direction, dtype=np.float64)
+    sun = sun / np.linalg.norm(sun)
+    if sun[2] <= 0.0:
+        return np.zeros(x.size, dtype=np.float32)
+    n = grid_normals(x, y, h).astype(np.float64)
+    t = refract(-sun, n, 1.0 / ior).reshape(*x.shape, 3)
+    s = (h + depth) / np.maximum(-t[..., 2], 1e-6)
+    qx, qy = x + s * t[..., 0], y + s * t[..., 1]
+    pu, pv = grid_tangents(x, y, h)
+    flux = np.einsum("i,i...->...", sun, np.cross(pu, pv, axis=0))
+    qu, qv = grid_tangents(qx, qy, np.zeros_like(qx))
+    area = np.abs(qu[0] * qv[1] - qu[1] * qv[0])
+    ratio = np.divide(flux, area * sun[2], out=np.ones_like(flux), where=area > 0.0)
+    return ratio.astype(np.float32).ravel()
+
+
+def caustic_shadow(intensity):
+    """The water's shadow transparency in [0, 1] from caustic intensities: CAUSTIC_MEAN for flat
+    water, 1 where the light is focused twice as much or more."""
+    return np.clip(np.asarray(intensity, dtype=np.float32) * np.float32(CAUSTIC_MEAN), 0.0, 1.0)

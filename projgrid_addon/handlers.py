@@ -49,8 +49,15 @@ def depsgraph_update_post(scene, depsgraph):
             bridge.update_ocean(obj, scene, depsgraph)
 
 
+def ensure_companions(scene):
+    """Every ocean's water body and reflection plane exist (hidden until an effect needs them)."""
+    for obj in bridge.ocean_objects(scene):
+        bridge.ensure_companions(obj)
+
+
 @persistent
 def render_init(scene, _=None):
+    ensure_companions(scene)  # before the render's depsgraph is built from the scene
     bridge.RENDERING["active"] = True
     message = ensure_lock_interface(scene)  # takes effect from the next render
     if message:
@@ -72,6 +79,7 @@ def load_pre(*_):
 def load_post(*_):
     bridge.RENDERING["active"] = False
     for scene in bpy.data.scenes:
+        ensure_companions(scene)
         message = ensure_lock_interface(scene)
         if message:
             print(message)

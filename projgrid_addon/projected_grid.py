@@ -119,34 +119,37 @@ def snapped_origin(camera, level, cell=1024.0):
     return np.array([xy[0], xy[1], level])
 
 
+def grid_derivative(a, axis):
+    """Differences between grid neighbours along `axis` of an (ny, nx) array: central inside,
+    one-sided at the borders (the step is one grid cell either way, halved nowhere: callers take
+    ratios or directions)."""
+    out = np.empty_like(a)
+    cut = [slice(None)] * 2
+
+    def at(s):
+        cut[axis] = s
+        return tuple(cut)
+
+    out[at(slice(1, -1))] = a[at(slice(2, None))] - a[at(slice(0, -2))]
+    out[at(0)] = a[at(1)] - a[at(0)]
+    out[at(-1)] = a[at(-1)] - a[at(-2)]
+    return out
+
+
+def grid_tangents(x, y, z):
+    """(dP/du, dP/dv) as two (3, ny, nx) arrays, from the grid neighbours."""
+    d = grid_derivative
+    return np.stack([d(x, 1), d(y, 1), d(z, 1)]), np.stack([d(x, 0), d(y, 0), d(z, 0)])
+
+
 def grid_normals(x, y, z):
     """Unit normals from the neighbours in u and v (§3.1.1 step 4), on (ny, nx) arrays.
 
     The z component of cross(dP/du, dP/dv) only depends on the flat grid, which the projector keeps
     counter-clockwise, so the normals point up out of the water whatever the heights.
     """
-    def d(a, axis):
-        out = np.empty_like(a)
-        lo = [slice(None)] * 2
-        hi = [slice(None)] * 2
-        mid = [slice(None)] * 2
-        lo[axis], hi[axis], mid[axis] = slice(0, -2), slice(2, None), slice(1, -1)
-        out[tuple(mid)] = a[tuple(hi)] - a[tuple(lo)]
-        first = [slice(None)] * 2
-        first[axis] = 0
-        second = [slice(None)] * 2
-        second[axis] = 1
-        last = [slice(None)] * 2
-        last[axis] = -1
-        before = [slice(None)] * 2
-        before[axis] = -2
-        out[tuple(first)] = a[tuple(second)] - a[tuple(first)]
-        out[tuple(last)] = a[tuple(last)] - a[tuple(before)]
-        return out
-
-    xu, yu, zu = d(x, 1), d(y, 1), d(z, 1)
-    xv, yv, zv = d(x, 0), d(y, 0), d(z, 0)
-    n = np.stack([yu * zv - zu * yv, zu * xv - xu * zv, xu * yv - yu * xv], axis=-1)
+    pu, pv = grid_tangents(x, y, z)
+    n = np.moveaxis(np.cross(pu, pv, axis=0), 0, -1)
     length = np.linalg.norm(n, axis=-1, keepdims=True)
     flat = length[..., 0] == 0.0
     n = np.divide(n, length, out=np.zeros_like(n), where=~flat[..., None])

@@ -88,24 +88,108 @@ def test_the_shared_water_group_keeps_a_branch_any_ocean_needs(ocean):
     assert group().nodes["Foam"].mute
 
 
-def test_objects_decide_reflections_and_what_is_not_rendered_yet(ocean):
-    add_box("Buoy", (0.0, 40.0, 0.0))  # crosses the surface in view
+def attribute(obj, name):
+    values = np.empty(len(obj.data.vertices), np.float32)
+    obj.data.attributes[name].data.foreach_get("value", values)
+    return values
+
+
+def companions(ocean):
+    return ocean.projgrid.water_body, ocean.projgrid.shadow_caster
+
+
+def shown(obj):
+    return not obj.hide_render and not obj.hide_viewport
+
+
+def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge):
+    body, caster = companions(ocean)
+    assert not any(shown(c) for c in companions(ocean))  # made hidden with the ocean
+    assert ocean.visible_shadow
+    add_box("Buoy", (0.0, 40.0, 0.0))  # crosses the surface in view, the sun above
     bpy.context.view_layer.update()
     lines = effect_lines(ocean)
-    assert lines["local_reflections"].startswith("off: needed ('Buoy' stands above the water")
-    assert lines["contact_foam"].startswith("off: needed ('Buoy' crosses the surface")
-    assert lines["refraction"].startswith("off: needed ('Buoy' is below the surface")
-    assert ocean.projgrid.active_effects == {"SUN_GLINT"}
+    assert lines["local_reflections"] == (
+        "off: needed ('Buoy' stands above the water in view) but not rendered yet")
+    assert lines["contact_foam"] == "on: 'Buoy' crosses the surface in view"
+    assert lines["refraction"] == "on: 'Buoy' is below the surface in view"
+    assert lines["caustics"].startswith("on: sun ")
+    assert ocean.projgrid.active_effects == {"SUN_GLINT", "CONTACT_FOAM", "REFRACTION",
+                                             "CAUSTICS"}
+    assert shown(body) and shown(caster)
+    assert not ocean.visible_shadow and caster.data == ocean.data  # the caster casts it
+    assert caster.material_slots[0].material.name == "Projected Grid Water Shadow"
+    assert body.location.z == pytest.approx(-bpy.context.scene.eevee.volumetric_end)
+    nodes = group().nodes
+    assert not any(nodes[n].mute for n in ("Foam", "Refraction", "Sun Glint"))
+    # Contact foam: only near the buoy (1 m from its centre: inside the 2 m box), and only there.
+    foam = attribute(ocean, "projgrid_foam")
+    grid = bridge.STATE[ocean.name_full]["grid"]
+    gx, gy, _ = grid.surface
+    distance = np.maximum(np.abs(gx.ravel()), np.abs(gy.ravel() - 40.0)) - 1.0
+    assert foam[distance <= 0.0].min() == 1.0
+    assert foam[distance > bridge.contact_foam_width(bridge.height_field(ocean.projgrid))
+                ].max() == 0.0
+    caustics = attribute(ocean, "projgrid_caustics")
+    assert caustics.std() > 0.01 and caustics.min() >= -0.5 and caustics.max() <= 0.5
+
     bpy.data.objects["Buoy"].location = (0.0, -40.0, 0.0)  # behind the camera
     bpy.context.view_layer.update()
     assert effect_lines(ocean)["contact_foam"] == "off: nothing in view crosses the surface"
+    assert ocean.projgrid.active_effects == {"SUN_GLINT"}
+    assert not any(shown(c) for c in companions(ocean)) and ocean.visible_shadow
+    assert "projgrid_foam" not in ocean.data.attributes
+    assert "projgrid_caustics" not in ocean.data.attributes
+    assert all(nodes[n].mute for n in ("Foam", "Refraction"))
 
 
-def test_camera_under_the_water(ocean):
-    bpy.context.scene.camera.location.z = -3.0
+def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
+    scene = bpy.context.scene
+    scene.camera.location.z = -3.0
     bpy.context.view_layer.update()
-    assert effect_lines(ocean)["underwater"].startswith(
-        "off: needed (camera 3 m below the surface")
+    lines = effect_lines(ocean)
+    assert lines["underwater"] == "on: camera 3 m below the surface"
+    assert lines["godrays"].startswith("on: camera 3 m below the surface, sun ")
+    assert lines["refraction"].startswith("off: camera 3 m below")
+    body, caster = companions(ocean)
+    assert shown(body) and shown(caster)
+    assert tuple(body.location)[:2] == pytest.approx(tuple(scene.camera.location)[:2], abs=1e-6)
+    assert not body.data.materials[0].node_tree.nodes["Godrays"].mute
+    assert "projgrid_caustics" in ocean.data.attributes  # the godrays follow the caustics
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+    sun.hide_render = True  # no sun: no godrays, no caustics
+    scene.frame_set(2)
+    assert ocean.projgrid.active_effects == {"UNDERWATER"}
+    assert body.data.materials[0].node_tree.nodes["Godrays"].mute
+    assert "projgrid_caustics" not in ocean.data.attributes
+
+
+def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
+    calls = []
+    effects = bridge.effects
+    for name in ("contact_foam", "caustic_intensity", "foam_threshold", "receiving_depth"):
+        real = getattr(effects, name)
+        monkeypatch.setattr(effects, name,
+                            lambda *a, _n=name, _f=real: calls.append(_n) or _f(*a))
+    for effect in effects.EFFECTS:
+        setattr(ocean.projgrid, effect, "OFF")
+    add_box("Buoy", (0.0, 40.0, 0.0))
+    ocean.projgrid.wind_speed = 20.0
+    bpy.context.scene.frame_set(3)
+    assert calls == [] and ocean.projgrid.active_effects == set()
+    assert not any(shown(c) for c in companions(ocean))
+    assert not {"projgrid_foam", "projgrid_caustics"} & set(ocean.data.attributes.keys())
+    ocean.projgrid.contact_foam = "ON"
+    assert calls == ["contact_foam"]
+
+
+def test_our_companions_are_ours_and_not_scene_objects(ocean, bridge):
+    body, caster = companions(ocean)
+    assert all(bridge.owns(c) and bridge.owns(c.data) for c in (body, caster))
+    assert [c.name for c in companions(ocean)] == ["Ocean Water Body", "Ocean Shadow"]
+    bpy.data.objects.remove(body)  # deleted by the user: made again, hidden, on the next build
+    ocean.projgrid.seed = 4
+    assert ocean.projgrid.water_body is not None and not shown(ocean.projgrid.water_body)
 
 
 def test_active_effects_is_read_only(ocean):

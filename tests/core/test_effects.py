@@ -56,22 +56,28 @@ def test_objects_decide_by_their_place_against_the_water_and_the_view():
     assert not any(d[e][0] or "needed" in d[e][1] for e in
                    ("contact_foam", "refraction", "caustics", "local_reflections"))
     d = decide({}, facts(objects=[boat, rock, gull], sun_elevation=40.0))
-    assert "'Boat'" in d["contact_foam"][1] and "needed" in d["contact_foam"][1]
-    assert "'Boat', 'Rock'" in d["refraction"][1]
-    assert "needed" in d["caustics"][1] and "sun 40°" in d["caustics"][1]
-    assert "'Boat', 'Gull'" in d["local_reflections"][1]
+    assert on(d) == {"contact_foam", "refraction", "caustics", "sun_glint"}
+    assert d["contact_foam"][1] == "'Boat' crosses the surface in view"
+    assert d["refraction"][1] == "'Boat', 'Rock' is below the surface in view"
+    assert d["caustics"][1].startswith("sun 40° above the horizon, 'Boat', 'Rock'")
+    assert d["local_reflections"] == (
+        False, "needed ('Boat', 'Gull' stands above the water in view) but not rendered yet")
+    d = decide({}, facts(objects=[boat, rock, gull, hidden], sun_elevation=-3.0))
+    assert not d["caustics"][0] and "below the horizon" in d["caustics"][1]
 
 
 def test_underwater_camera():
     d = decide({}, facts(camera_height=-3.0, sun_elevation=30.0))
-    assert d["underwater"][1].startswith("needed (camera 3 m below the surface")
-    assert "needed" in d["godrays"][1]
+    assert on(d) == {"underwater", "godrays", "sun_glint"}
+    assert d["underwater"][1] == "camera 3 m below the surface"
+    assert d["godrays"][1] == "camera 3 m below the surface, sun 30° above the horizon"
     assert not d["refraction"][0] and "below the surface" in d["refraction"][1]
+    assert on(decide({}, facts(camera_height=-3.0))) == {"underwater"}  # no sun: no godrays
 
 
-def test_unrendered_effects_are_never_active():
+def test_switched_on_effects_are_active_unless_not_rendered_yet():
     everything = dict.fromkeys(effects.EFFECTS, "ON")
-    assert on(decide(everything, facts())) == set(effects.RENDERED)
+    assert on(decide(everything, facts())) == set(effects.EFFECTS) - effects.NOT_RENDERED
 
 
 def test_boxes_in_view():
@@ -91,3 +97,85 @@ def test_foam_threshold_matches_the_coverage_and_foam_is_deterministic():
     foam = effects.foam_amount(h, t, 0.1)
     assert foam.dtype == np.float32 and foam.min() == 0.0 and foam.max() == 1.0
     assert np.array_equal(foam > 0, h > t)
+
+
+def unit_box(lo, hi):
+    """Corners in Blender's bound_box order (x slowest, z fastest, y as 0 0 1 1)."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    return np.array([[x, y, z] for x in (x0, x1) for y, z in
+                     ((y0, z0), (y0, z1), (y1, z1), (y1, z0))], float)
+
+
+def test_contact_foam_rings_the_box_and_fades_with_distance():
+    box = unit_box((-1, -1, -2), (1, 1, 2))
+    x = np.array([0.0, 1.0, 1.25, 1.5, 3.0, -1.25])
+    foam = effects.contact_foam(x, np.zeros_like(x), np.zeros_like(x), [box], 0.5)
+    assert foam.dtype == np.float32
+    assert foam.tolist() == pytest.approx([1.0, 1.0, 0.25, 0.0, 0.0, 0.25])
+    # A box rotated 45° about z: a point 1.2 m out along its diagonal direction is within reach
+    # of the rotated box's corner only (the distance is taken in the box's own frame).
+    c, s_ = np.cos(np.pi / 4), np.sin(np.pi / 4)
+    turned = box @ np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
+    point = np.array([np.sqrt(2) + 0.2]), np.zeros(1), np.zeros(1)
+    assert effects.contact_foam(*point, [turned], 0.5)[0] == pytest.approx((1 - 0.4) ** 2)
+    assert effects.contact_foam(*point, np.zeros((0, 8, 3)), 0.5)[0] == 0.0
+
+
+def test_crossing_boxes_are_the_ones_in_view_that_cross_the_water():
+    box = unit_box((-1, -1, -2), (1, 1, 2))
+    boat = SceneObject("Boat", -2.0, 2.0, True, box)
+    deep = SceneObject("Deep", -9.0, -5.0, True, box - (0, 0, 7))
+    hidden = SceneObject("Hidden", -2.0, 2.0, False, box)
+    boxes = effects.crossing_boxes(facts(objects=[boat, deep, hidden]))
+    assert boxes.shape == (1, 8, 3) and np.array_equal(boxes[0], box)
+
+
+def wavy_surface(n=257, span=40.0, amplitude=0.5, wavelength=5.0):
+    x, y = np.meshgrid(np.linspace(0, span, n), np.linspace(0, span, n))
+    return x, y, amplitude * np.sin(2 * np.pi * x / wavelength)
+
+
+def test_caustics_are_one_on_flat_water_and_focus_under_crests():
+    x, y, h = wavy_surface()
+    sun = (0.0, 0.0, 1.0)
+    flat = effects.caustic_intensity((x, y, np.zeros_like(x)), (0.3, 0.1, 0.8), 2.0)
+    assert flat == pytest.approx(np.ones(x.size), abs=1e-6)
+    wavy = effects.caustic_intensity((x, y, h), sun, 2.0).reshape(x.shape)
+    inner = wavy[2:-2, 2:-2]
+    # Crests are thin lenses of curvature k = A (2 pi / wavelength)^2 and focal length
+    # f = n / ((n - 1) k): d below the crest the light is 1 / (1 - d / f) (paraxial), and d below
+    # a trough 1 / (1 + d / f). The receiver is 2 m below the level: 2.5 m below crests.
+    crest = np.isclose(np.sin(2 * np.pi * x / 5.0), 1.0, atol=1e-3)[2:-2, 2:-2]
+    trough = np.isclose(np.sin(2 * np.pi * x / 5.0), -1.0, atol=1e-3)[2:-2, 2:-2]
+    assert crest.any() and trough.any()
+    f = 1.333 / (0.333 * 0.5 * (2 * np.pi / 5.0) ** 2)
+    assert inner[crest] == pytest.approx(1 / (1 - 2.5 / f), rel=0.03)
+    assert inner[trough] == pytest.approx(1 / (1 + 1.5 / f), rel=0.03)
+    # Deeper receivers see the focus sharpen (up to the focal depth).
+    deeper = effects.caustic_intensity((x, y, h), sun, 4.0).reshape(x.shape)[2:-2, 2:-2]
+    assert deeper[crest].min() > inner[crest].min()
+    assert not effects.caustic_intensity((x, y, h), (0.0, 0.3, -0.5), 2.0).any()  # sun set
+
+
+def test_caustic_shadow_is_the_mean_on_flat_water_and_bounded():
+    shadow = effects.caustic_shadow(np.array([0.0, 1.0, 2.0, 50.0]))
+    assert shadow.tolist() == [0.0, effects.CAUSTIC_MEAN, 1.0, 1.0]
+
+
+def test_refraction_follows_snells_law():
+    n = np.array([0.0, 0.0, 1.0])
+    theta = np.radians(50.0)
+    d = np.array([np.sin(theta), 0.0, -np.cos(theta)])
+    t = effects.refract(d, n, 1 / 1.333)
+    assert np.linalg.norm(t) == pytest.approx(1.0)
+    assert t[0] == pytest.approx(np.sin(theta) / 1.333) and t[2] < 0
+
+
+def test_receiving_depth_is_where_the_submerged_objects_are():
+    assert effects.receiving_depth(facts()) == 2.0
+    floor = SceneObject("Floor", -6.0, -6.0, True)
+    rock = SceneObject("Rock", -3.0, -1.0, True)
+    pier = SceneObject("Pier", -4.0, 5.0, True)
+    far = SceneObject("Far", -40.0, -30.0, False)
+    assert effects.receiving_depth(facts(objects=[floor, rock, pier, far])) == 2.0
+    assert effects.receiving_depth(facts(objects=[floor])) == 6.0

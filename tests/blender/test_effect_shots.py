@@ -1,0 +1,143 @@
+"""Each effect in a fixed small EEVEE render: two shots (above and under the water) against
+committed references as in test_shots.py, and for each effect a check that it shows: the pixels
+where it should appear change as it does, measured against the same shot with that effect off.
+
+The shots are 160 x 90 at 2 samples: refraction's dithered transparency is noisy at that count,
+so the checks compare region means, not pixels.
+"""
+
+import math
+import os
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+
+from tools.demo import default_shot
+
+from .test_shots import REFERENCE, compare_with_reference, luminance, read
+
+SIZE = (160, 90)
+
+
+def box(name, location, scale, colour):
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=location)
+    obj = bpy.context.active_object
+    obj.name, obj.scale = name, scale
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = colour
+    obj.data.materials.append(mat)
+    return obj
+
+
+def setup(height, pitch):
+    """The default shot with a sea floor 4 m down, a red block under the water, a yellow buoy
+    across the surface, the sun 40° up ahead, and a strong wind."""
+    scene = bpy.context.scene
+    cam = default_shot(scene, size=SIZE, samples=2, height=height, pitch=pitch)
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+    sun.rotation_euler = (math.radians(40.0), 0.0, math.radians(200.0))
+    box("Floor", (0.0, 40.0, -4.0), (80.0, 60.0, 0.2), (0.7, 0.6, 0.4, 1.0))
+    box("Block", (-1.5, 12.0, -1.6), (1.5, 1.5, 1.5), (0.8, 0.05, 0.05, 1.0))
+    box("Buoy", (2.5, 16.0, 0.0), (0.8, 0.8, 3.0), (0.9, 0.8, 0.1, 1.0))
+    ocean = bpy.data.objects["Ocean"]
+    ocean.projgrid.wind_speed = 14.0
+    return scene, cam, ocean
+
+
+def render(scene, path, frame=12):
+    """Render `frame` alone as an animation: the render's own frame handler decides the
+    effects (the viewport may be at another frame)."""
+    scene.frame_start = scene.frame_end = frame
+    scene.render.filepath = path
+    bpy.ops.render.render(animation=True)
+    return read(path + f"{frame:04d}.png")
+
+
+def region(scene, cam, point, half=(3, 3)):
+    """Pixel window (rows, cols) around the image of a world point."""
+    u, v, _ = world_to_camera_view(scene, cam, Vector(point))
+    col, row = round(u * SIZE[0]), round((1.0 - v) * SIZE[1])
+    return (slice(max(row - half[1], 0), row + half[1] + 1),
+            slice(max(col - half[0], 0), col + half[0] + 1))
+
+
+def check(name, path):
+    if os.environ.get("PROJGRID_UPDATE_REFERENCES"):
+        os.makedirs(REFERENCE, exist_ok=True)
+        oiio.ImageBuf(path).write(os.path.join(REFERENCE, f"{name}.png"))
+    compare_with_reference(name, path)
+
+
+def redness(img):
+    return img[..., 0].mean() / max(img.mean(), 1e-6)
+
+
+def test_effects_above_the_water(tmp_path):
+    scene, cam, ocean = setup(3.0, -12.0)
+    scene.frame_set(1)
+    assert ocean.projgrid.active_effects == {"FOAM", "CONTACT_FOAM", "REFRACTION", "CAUSTICS",
+                                             "SUN_GLINT"}
+    img = render(scene, str(tmp_path / "above"))
+    check("effects_above", str(tmp_path / "above0012.png"))
+
+    block = region(scene, cam, (-1.5, 12.0, -1.0))
+    ring = [region(scene, cam, (2.5 + dx, 16.0, 0.0), (1, 1)) for dx in (-0.9, 0.9)]
+    beside = region(scene, cam, (7.0, 16.0, 0.0), (1, 1))  # open water at the same distance
+
+    ocean.projgrid.caustics = "OFF"
+    off = render(scene, str(tmp_path / "no_caustics"))
+    # The caustic shadow changes the sunlit floor seen through the water, and nothing above the
+    # horizon. (Subtle at 2 samples: the shadow's pattern has a standard deviation of 0.08 in
+    # transmission, and the dithered surface shows the floor in about half the pixels.)
+    change = np.abs(img - off).mean(axis=-1)
+    assert change[SIZE[1] // 2:].mean() > max(5e-4, 10.0 * change[:10].mean())
+    ocean.projgrid.caustics = "AUTO"
+
+    ocean.projgrid.refraction = "OFF"  # opaque water from here on: no dithered noise
+    opaque = render(scene, str(tmp_path / "no_refraction"))
+    assert redness(img[block]) > 1.3 * redness(opaque[block])  # the block seen through water
+    # Contact foam: white at the buoy's waterline, brighter than open water beside it.
+    assert min(luminance(opaque[r]).mean() for r in ring) > (
+        luminance(opaque[beside]).mean() + 0.05)
+
+
+
+def test_effects_under_the_water(tmp_path):
+    scene, cam, ocean = setup(3.0, 12.0)
+    # Above the water at frame 1 (where the viewport stays), 2 m under it at frame 12.
+    cam.keyframe_insert("location", frame=1)
+    cam.location.z = -2.0
+    cam.keyframe_insert("location", frame=12)
+    scene.frame_set(1)
+    assert "UNDERWATER" not in ocean.projgrid.active_effects
+    img = render(scene, str(tmp_path / "under"))
+    check("effects_under", str(tmp_path / "under0012.png"))
+    scene.frame_set(12)  # the camera where it rendered
+    assert ocean.projgrid.active_effects == {"UNDERWATER", "GODRAYS", "CAUSTICS", "FOAM",
+                                             "CONTACT_FOAM", "SUN_GLINT"}
+
+    block = region(scene, cam, (-1.5, 12.0, -1.6))
+    water = (slice(SIZE[1] // 2, None), slice(None))  # below the horizon: the water's depths
+    ocean.projgrid.underwater = "OFF"
+    off = render(scene, str(tmp_path / "no_underwater"))
+    # Absorption (Fleck Eq. 17) takes the red out of the block 10 m away.
+    assert redness(img[block]) < 0.8 * redness(off[block])
+    ocean.projgrid.underwater = "AUTO"
+
+    ocean.projgrid.godrays = "OFF"
+    off = render(scene, str(tmp_path / "no_godrays"))
+    assert luminance(img[water]).mean() > luminance(off[water]).mean() + 0.01  # in-scattering
+    assert np.isfinite(img).all()
+
+
+@pytest.fixture(autouse=True)
+def _small_volumes():
+    """Test scenes only: coarser EEVEE volumes keep the underwater shot quick on the CPU."""
+    eevee = bpy.context.scene.eevee
+    eevee.volumetric_tile_size = "16"
+    eevee.volumetric_samples = 32
