@@ -32,11 +32,15 @@ def _scene(name):
     return scene
 
 
+def _ocean(scene):
+    return next(o for o in scene.objects if o.type == "MESH" and o.projgrid.is_ocean)
+
+
 def projected_scene(n, noise="FAST"):
     scene = _scene(f"projected {n} {noise}")
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
         bpy.ops.projgrid.add_ocean()
-    obj = next(o for o in scene.objects if o.type == "MESH")
+    obj = _ocean(scene)
     obj.projgrid.resolution_x = obj.projgrid.resolution_y = n
     obj.projgrid.noise = noise
     return scene
@@ -123,7 +127,7 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
     scene = bpy.context.scene
     default_shot(scene, size=size, samples=1)
     scene.frame_set(12)
-    ocean = next(o for o in scene.objects if o.type == "MESH")
+    ocean = _ocean(scene)
     water = ocean.data.materials[0]
     glossy = bpy.data.materials.new("Plain Glossy")
     tree = extension().shaders.nodes.empty_tree(glossy)
@@ -156,31 +160,37 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
     return rows
 
 
-EFFECT_VARIANTS = {  # name: modes set on the ocean (the rest stay AUTO)
-    "everything off": dict.fromkeys(EFFECTS, "OFF"),
-    "bare ocean, auto": {},
-    "foam on": {"foam": "ON"},
+EFFECT_VARIANTS = {  # name: (modes set on the ocean, the rest AUTO; whether the sun shines)
+    "everything off": (dict.fromkeys(EFFECTS, "OFF"), True),
+    "bare ocean, auto": ({}, True),
+    "bare ocean, auto, no sun": ({}, False),
+    **{f"{e.replace('_', ' ')} on": ({e: "ON"}, True) for e in EFFECTS},
 }
 
 
-def _set_modes(scene, modes):
-    ocean = next(o for o in scene.objects if o.type == "MESH" and o.projgrid.is_ocean)
+def _set_modes(scene, variant):
+    modes, sun = EFFECT_VARIANTS[variant]
+    ocean = _ocean(scene)
     for effect in EFFECTS:
         setattr(ocean.projgrid, effect, modes.get(effect, "AUTO"))
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN":
+            obj.hide_render = obj.hide_viewport = not sun
     return ocean
 
 
 def effect_cost(n=257, repeats=15):
     """Per-frame rebuild time of the same ocean with its effects off, at AUTO (a bare ocean: only
-    the sun glint is called for) and with foam on, measured interleaved."""
+    the sun glint is called for; without a sun nothing), and with each effect on alone,
+    measured interleaved."""
     scenes = {}
-    for name, modes in EFFECT_VARIANTS.items():
+    for name in EFFECT_VARIANTS:
         scenes[name] = projected_scene(n)
-        _set_modes(scenes[name], modes)
+        _set_modes(scenes[name], name)
     times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
     rows = []
     for name, seconds in times.items():
-        ocean = next(o for o in scenes[name].objects if o.type == "MESH")
+        ocean = _ocean(scenes[name])
         rows.append({"variant": name, "ms": seconds * 1e3,
                      "active": sorted(ocean.projgrid.active_effects)})
     for s in scenes.values():
@@ -199,8 +209,8 @@ def effect_render_cost(size=(320, 180), samples=4, repeats=3):
     tmp = tempfile.mkdtemp(prefix="projgrid-bench-")
     scene.render.filepath = os.path.join(tmp, "effect.png")
     rows = []
-    for name, modes in EFFECT_VARIANTS.items():
-        _set_modes(scene, modes)
+    for name in EFFECT_VARIANTS:
+        _set_modes(scene, name)
         scene.frame_set(12)
         bpy.ops.render.render(write_still=True)  # compile this variant's shader
         times = []
