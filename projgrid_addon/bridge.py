@@ -294,10 +294,10 @@ def write_foam(mesh, result, hf, settings, t, on, facts, level):
         coverage = max(effects.whitecap_coverage(settings.wind_speed), effects.FOAM_MIN_COVERAGE)
         threshold = effects.foam_threshold(hf, t, coverage)
         foam = effects.foam_amount(result.surface[2].ravel(), threshold, 0.25 * hf.amplitude)
-    if result.visible and on["contact_foam"]:
+    boxes = effects.crossing_boxes(facts) if result.visible and on["contact_foam"] else ()
+    if len(boxes):
         x, y, h = result.surface
-        ring = effects.contact_foam(x, y, h + level, effects.crossing_boxes(facts),
-                                    contact_foam_width(hf))
+        ring = effects.contact_foam(x, y, h + level, boxes, contact_foam_width(hf))
         foam = ring if foam is None else np.maximum(foam, ring)
     write_attribute(mesh, FOAM_ATTRIBUTE, foam)
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .projected_grid import grid_normals, grid_tangents
+from .projected_grid import grid_derivative
 from .validation import finite, non_negative
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
@@ -229,15 +229,6 @@ def receiving_depth(facts):
     return float(max(np.median(mid), 0.1))
 
 
-def refract(d, n, eta):
-    """Snell's law in vector form (Fleck §2.1.2): direction `d` through a surface of unit normal
-    `n` (facing against d) with relative index `eta`, on (..., 3) arrays (no total internal
-    reflection from air into water)."""
-    c = -np.sum(d * n, axis=-1, keepdims=True)
-    k = np.maximum(1.0 - eta * eta * (1.0 - c * c), 0.0)
-    return eta * d + (eta * c - np.sqrt(k)) * n
-
-
 def caustic_intensity(surface, sun_direction, depth, ior=1.333):
     """Per-vertex caustic intensity relative to flat water (Fleck Eq. 28, Jensen and Golias).
 
@@ -251,14 +242,22 @@ def caustic_intensity(surface, sun_direction, depth, ior=1.333):
     sun = sun / np.linalg.norm(sun)
     if sun[2] <= 0.0:
         return np.zeros(x.size, dtype=np.float32)
-    n = grid_normals(x, y, h).astype(np.float64)
-    t = refract(-sun, n, 1.0 / ior).reshape(*x.shape, 3)
-    s = (h + depth) / np.maximum(-t[..., 2], 1e-6)
-    qx, qy = x + s * t[..., 0], y + s * t[..., 1]
-    pu, pv = grid_tangents(x, y, h)
-    flux = np.einsum("i,i...->...", sun, np.cross(pu, pv, axis=0))
-    qu, qv = grid_tangents(qx, qy, np.zeros_like(qx))
-    area = np.abs(qu[0] * qv[1] - qu[1] * qv[0])
+    d = grid_derivative
+    xu, yu, hu, xv, yv, hv = d(x, 1), d(y, 1), d(h, 1), d(x, 0), d(y, 0), d(h, 0)
+    # dP/du x dP/dv, whose z (the flat grid's area) is positive: the grid is counter-clockwise.
+    c = (yu * hv - hu * yv, hu * xv - xu * hv, xu * yv - yu * xv)
+    flux = sun[0] * c[0] + sun[1] * c[1] + sun[2] * c[2]
+    length = np.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+    # Snell's law (Fleck §2.1.2) for the sun ray -L through the unit normal c / |c|.
+    eta = 1.0 / ior
+    cos = flux / length
+    k = 1.0 - eta * eta * (1.0 - cos * cos)
+    along_n = (eta * cos - np.sqrt(k)) / length
+    tz = -eta * sun[2] + along_n * c[2]
+    s = (h + depth) / np.maximum(-tz, 1e-6)
+    qx = x + s * (-eta * sun[0] + along_n * c[0])
+    qy = y + s * (-eta * sun[1] + along_n * c[1])
+    area = np.abs(d(qx, 1) * d(qy, 0) - d(qy, 1) * d(qx, 0))
     ratio = np.divide(flux, area * sun[2], out=np.ones_like(flux), where=area > 0.0)
     return ratio.astype(np.float32).ravel()
 

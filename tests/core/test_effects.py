@@ -162,15 +162,6 @@ def test_caustic_shadow_is_the_mean_on_flat_water_and_bounded():
     assert shadow.tolist() == [0.0, effects.CAUSTIC_MEAN, 1.0, 1.0]
 
 
-def test_refraction_follows_snells_law():
-    n = np.array([0.0, 0.0, 1.0])
-    theta = np.radians(50.0)
-    d = np.array([np.sin(theta), 0.0, -np.cos(theta)])
-    t = effects.refract(d, n, 1 / 1.333)
-    assert np.linalg.norm(t) == pytest.approx(1.0)
-    assert t[0] == pytest.approx(np.sin(theta) / 1.333) and t[2] < 0
-
-
 def test_receiving_depth_is_where_the_submerged_objects_are():
     assert effects.receiving_depth(facts()) == 2.0
     floor = SceneObject("Floor", -6.0, -6.0, True)

@@ -163,6 +163,7 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
 EFFECT_VARIANTS = {  # name: (modes set on the ocean, the rest AUTO; whether the sun shines)
     "everything off": (dict.fromkeys(EFFECTS, "OFF"), True),
     "bare ocean, auto": ({}, True),
+    "everything off, no sun": (dict.fromkeys(EFFECTS, "OFF"), False),
     "bare ocean, auto, no sun": ({}, False),
     **{f"{e.replace('_', ' ')} on": ({e: "ON"}, True) for e in EFFECTS},
 }

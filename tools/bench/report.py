@@ -310,9 +310,10 @@ def write(results, docs):
         bare = ms["bare ocean, auto"] / ms["everything off"]
         targets.append(("Bare ocean at AUTO ≤ 1.02 × everything off (rebuild)",
                         f"{bare:.3f} ×", bare <= 1.02))
-        if renders.get("bare ocean, auto, no sun"):
-            bare = renders["bare ocean, auto, no sun"] / renders["everything off"]
-            targets.append(("Bare ocean at AUTO, no sun ≤ 1.02 × everything off (render)",
+        if renders.get("bare ocean, auto, no sun") and renders.get("everything off, no sun"):
+            bare = renders["bare ocean, auto, no sun"] / renders["everything off, no sun"]
+            targets.append(("Bare ocean at AUTO ≤ 1.02 × everything off, both without a sun "
+                            "(render)",
                             f"{bare:.3f} ×", bare <= 1.02))
 
     md[6:6] = ["## Targets", "",
