@@ -187,7 +187,8 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         t = scene_time(scene)
         hf = height_field(settings)
         cam = Camera(*camera)
-        facts = scene_facts(obj, scene, depsgraph, cam, world[2, 3], hf, settings, render)
+        sun = water.sun_lamp(scene, depsgraph)  # once per frame: the facts and the glint
+        facts = scene_facts(obj, scene, sun, cam, world[2, 3], hf, settings, render)
         key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
                world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
                mesh.session_uid, repr(facts))
@@ -208,7 +209,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
                  ms=(time.perf_counter() - start) * 1e3, effects=decisions,
                  shader_octaves=result.shader_octaves, resolution=res, render=render)
     in_use = effects_in_use()
-    water.update_inputs(obj, scene, depsgraph, hf, result.shader_octaves, t, in_use)
+    water.update_inputs(obj, sun, hf, result.shader_octaves, t, in_use)
     if not render and not RENDERING["active"]:
         ensure_companions(obj)
     place_companions(obj, cam.position, world[2, 3], on, scene, in_use)
@@ -221,7 +222,6 @@ SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resol
 # Object types with geometry that can stand in, on or under the water.
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME",
                   "GPENCIL", "GREASEPENCIL"}
-FOAM_ATTRIBUTE = water.FOAM_ATTRIBUTE
 
 
 def scene_objects(scene, ocean, camera, render):
@@ -249,10 +249,10 @@ def scene_objects(scene, ocean, camera, render):
                                             strict=True)]
 
 
-def scene_facts(obj, scene, depsgraph, camera, level, hf, settings, render):
+def scene_facts(obj, scene, sun, camera, level, hf, settings, render):
     """effects.SceneFacts of this frame: camera against the water, objects, sun, wind.
-    Object heights are relative to the water level, as the camera's."""
-    sun = water.sun_lamp(scene, depsgraph)
+    Object heights are relative to the water level, as the camera's; `sun` is the evaluated
+    sun lamp (water.sun_lamp) or None."""
     elevation = direction = None
     if sun is not None:
         direction = tuple(water.sun_direction(sun))
@@ -299,7 +299,7 @@ def write_foam(mesh, result, hf, settings, t, on, facts, level):
         x, y, h = result.surface
         ring = effects.contact_foam(x, y, h + level, boxes, contact_foam_width(hf))
         foam = ring if foam is None else np.maximum(foam, ring)
-    write_attribute(mesh, FOAM_ATTRIBUTE, foam)
+    write_attribute(mesh, water.FOAM_ATTRIBUTE, foam)
 
 
 def write_caustics(mesh, result, facts, on):
@@ -385,7 +385,7 @@ def place_companions(obj, eye, level, on, scene, in_use):
         if not np.allclose(companion.location, location) or not np.allclose(companion.scale,
                                                                              scale):
             companion.location, companion.scale = location, scale
-        if prop == "water_body" and companion.data.materials[0] is not None:
+        if companion.data.materials[0] is not None:
             water.set_effects(companion.data.materials[0].node_tree, in_use, water.BODY_NODES)
 
 

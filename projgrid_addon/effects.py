@@ -79,11 +79,9 @@ def _names(objects, limit=2):
 
 def _auto(facts):
     """{effect: (needed, reason)} at AUTO, from the facts sorted once for every effect."""
-    level_hi, level_lo = facts.bound, -facts.bound
-    in_view = [o for o in facts.objects if o.in_view]
-    crossing = [o for o in in_view if o.z_min < level_hi and o.z_max > level_lo]
+    crossing = _crossing(facts)
     below = _submerged(facts)
-    above = [o for o in in_view if o.z_max > level_lo]
+    above = [o for o in facts.objects if o.in_view and o.z_max > -facts.bound]
     under = facts.camera_height < 0.0
     depth = f"camera {abs(facts.camera_height):.3g} m {'below' if under else 'above'} the surface"
     sun = facts.sun_elevation
@@ -191,10 +189,14 @@ def _submerged(facts):
     return [o for o in facts.objects if o.in_view and o.z_min < facts.bound]
 
 
+def _crossing(facts):
+    """The objects in view within the waves' reach of the surface, from below it to above."""
+    return [o for o in _submerged(facts) if o.z_max > -facts.bound]
+
+
 def crossing_boxes(facts):
     """(M, 8, 3) corners of the objects in view that cross the surface (for contact foam)."""
-    boxes = [o.corners for o in facts.objects if o.in_view and o.corners is not None
-             and o.z_min < facts.bound and o.z_max > -facts.bound]
+    boxes = [o.corners for o in _crossing(facts) if o.corners is not None]
     return np.array(boxes, dtype=np.float64).reshape(-1, 8, 3)
 
 

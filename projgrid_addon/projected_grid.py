@@ -136,19 +136,14 @@ def grid_derivative(a, axis):
     return out
 
 
-def grid_tangents(x, y, z):
-    """(dP/du, dP/dv) as two (3, ny, nx) arrays, from the grid neighbours."""
-    d = grid_derivative
-    return np.stack([d(x, 1), d(y, 1), d(z, 1)]), np.stack([d(x, 0), d(y, 0), d(z, 0)])
-
-
 def grid_normals(x, y, z):
     """Unit normals from the neighbours in u and v (§3.1.1 step 4), on (ny, nx) arrays.
 
     The z component of cross(dP/du, dP/dv) only depends on the flat grid, which the projector keeps
     counter-clockwise, so the normals point up out of the water whatever the heights.
     """
-    pu, pv = grid_tangents(x, y, z)
+    d = grid_derivative
+    pu, pv = np.stack([d(x, 1), d(y, 1), d(z, 1)]), np.stack([d(x, 0), d(y, 0), d(z, 0)])
     n = np.moveaxis(np.cross(pu, pv, axis=0), 0, -1)
     length = np.linalg.norm(n, axis=-1, keepdims=True)
     flat = length[..., 0] == 0.0

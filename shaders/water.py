@@ -152,6 +152,18 @@ def _build(group):
     g.set(out.inputs["Fresnel"], fresnel)
 
 
+def _versioned_material(name):
+    """(our material `name`, None) if it is of this VERSION; else (ours, emptied, or new if the
+    name is free or a user's: never taken over) with a Graph to build it into."""
+    mat = bpy.data.materials.get(name)
+    if mat is not None and mat.get(TAG) == VERSION:
+        return mat, None
+    if mat is None or not mat.get(TAG):
+        mat = bpy.data.materials.new(name)
+    mat[TAG] = VERSION
+    return mat, Graph(empty_tree(mat))
+
+
 def shadow_material():
     """The water's shadow, for our caster object sharing the ocean's mesh: invisible to camera
     rays, and to shadow rays transparent by the caustics (Fleck Eq. 28) where they are computed.
@@ -160,14 +172,10 @@ def shadow_material():
     in every shadow-map tile: the water group there made a 160 x 90 still take 163 s on the CPU
     (llvmpipe) instead of 14 s.
     """
-    mat = bpy.data.materials.get(SHADOW_MATERIAL)
-    if mat is not None and mat.get(TAG) == VERSION:
+    mat, g = _versioned_material(SHADOW_MATERIAL)
+    if g is None:
         return mat
-    if mat is None or not mat.get(TAG):
-        mat = bpy.data.materials.new(SHADOW_MATERIAL)
-    mat[TAG] = VERSION
     mat.use_transparent_shadow = True
-    g = Graph(empty_tree(mat))
     caustic = g.node("ShaderNodeAttribute", attribute_name=CAUSTIC_ATTRIBUTE).outputs["Fac"]
     passed = g.node("ShaderNodeBsdfTransparent", {"Color": g.math("ADD", caustic, CAUSTIC_MEAN)})
     unseen = g.node("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)})
@@ -181,13 +189,9 @@ def shadow_material():
 
 def body_material():
     """The water body's volume (Fleck Eq. 14/17), with the godrays' in-scattering of the sun."""
-    mat = bpy.data.materials.get(BODY_MATERIAL)
-    if mat is not None and mat.get(TAG) == VERSION:
+    mat, g = _versioned_material(BODY_MATERIAL)
+    if g is None:
         return mat
-    if mat is None or not mat.get(TAG):
-        mat = bpy.data.materials.new(BODY_MATERIAL)
-    mat[TAG] = VERSION
-    g = Graph(empty_tree(mat))
     a = np.array(ABSORPTION)
     emitted = a * np.array(INPUTS[0][2][:3])  # e = a * water colour: L -> water colour
     absorb = g.node("ShaderNodeVolumeAbsorption", {"Color": (*(1.0 - a / a.max()), 1.0),
@@ -235,9 +239,9 @@ def sun_direction(sun):
     return direction / max(np.linalg.norm(direction), 1e-12)
 
 
-def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time, effects_on=None):
-    """Per frame: the sun, the left-out octaves and which effects are on ({effect: bool}) into
-    our material's group."""
+def update_inputs(obj, sun, height_field, shader_octaves, time, effects_on=None):
+    """Per frame: the sun (the evaluated lamp of `sun_lamp`, or None), the left-out octaves and
+    which effects are on ({effect: bool}) into our material's group."""
     mat = obj.data.materials[0] if len(obj.data.materials) else None
     if mat is None or not mat.get(TAG) or not mat.node_tree:
         return
@@ -247,7 +251,6 @@ def update_inputs(obj, scene, depsgraph, height_field, shader_octaves, time, eff
     if effects_on is not None and node.node_tree is not None and node.node_tree.get(TAG):
         set_effects(node.node_tree, effects_on, EFFECT_NODES)
     inputs = node.inputs
-    sun = sun_lamp(scene, depsgraph)
     if sun is not None:
         direction = sun_direction(sun)
         _set(inputs["Sun Direction"], tuple(direction))
