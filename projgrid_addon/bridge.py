@@ -103,6 +103,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                                 description="Our water body volume (underwater, refraction)")
     shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                    description="Our object casting the water's caustic shadow")
+    reflection_probe: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                      description="Our sphere probe capturing the mirror image "
+                                      "(local reflections)")
     active_effects: EnumProperty(
         name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
         description="The effects on for the current frame (read-only)",
@@ -212,7 +215,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
     water.update_inputs(obj, sun, hf, result.shader_octaves, t, in_use)
     if not render and not RENDERING["active"]:
         ensure_companions(obj)
-    place_companions(obj, cam.position, world[2, 3], on, scene, in_use)
+    place_companions(obj, cam, world[2, 3], hf.bound, on, scene, in_use)
     return None
 
 
@@ -224,9 +227,9 @@ GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCL
                   "GPENCIL", "GREASEPENCIL"}
 
 
-def scene_objects(scene, ocean, camera, render):
+def scene_objects(scene, ocean, camera, render, level):
     """SceneObjects (effects.py) for the visible geometry of the scene other than oceans and
-    our own objects."""
+    our own objects, heights relative to the water `level`."""
     found, boxes = [], []
     for obj in scene.objects:
         if (obj.type not in GEOMETRY_TYPES or obj == ocean or obj.projgrid.is_ocean
@@ -242,11 +245,12 @@ def scene_objects(scene, ocean, camera, render):
     if not boxes:
         return []
     boxes = np.stack(boxes)
-    seen = effects.boxes_in_view(camera, boxes)
-    z = boxes[..., 2]
-    return [effects.SceneObject(name, float(lo), float(hi), bool(v), box)
-            for name, lo, hi, v, box in zip(found, z.min(axis=1), z.max(axis=1), seen, boxes,
-                                            strict=True)]
+    mirrored = boxes * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * level)
+    seen = effects.boxes_in_view(camera, np.concatenate([boxes, mirrored])).reshape(2, -1)
+    z = boxes[..., 2] - level
+    return [effects.SceneObject(name, float(lo), float(hi), bool(v), box, bool(m))
+            for name, lo, hi, v, m, box in zip(found, z.min(axis=1), z.max(axis=1), *seen, boxes,
+                                               strict=True)]
 
 
 def scene_facts(obj, scene, sun, camera, level, hf, settings, render):
@@ -261,9 +265,7 @@ def scene_facts(obj, scene, sun, camera, level, hf, settings, render):
                         ("contact_foam", "refraction", "caustics", "local_reflections"))
     needs_objects = needs_objects or any(getattr(settings, e) == "ON" for e in
                                          ("contact_foam", "caustics"))
-    objects = scene_objects(scene, obj, camera, render) if needs_objects else []
-    for o in objects:
-        o.z_min, o.z_max = o.z_min - level, o.z_max - level
+    objects = scene_objects(scene, obj, camera, render, level) if needs_objects else []
     return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
                               wind_speed=settings.wind_speed, sun_elevation=elevation,
                               objects=objects, sun_direction=direction)
@@ -316,26 +318,34 @@ COMPANIONS = {  # setting: (name suffix, effects that show it)
     "water_body": (" Water Body", ("underwater", "refraction")),
     # Light passes the water: the ocean casts no shadow of its own while this one is shown.
     "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
+    # The ocean is left out of sphere probes' captures while this one is shown.
+    "reflection_probe": (" Reflection", ("local_reflections",)),
 }
 
 
 def _new_companion(obj, prop, name):
-    """The data of a new companion: a closed unit box, or the ocean's own mesh (the caster draws
-    it again with our shadow material, linked to the object)."""
+    """The data of a new companion: a closed unit box, the ocean's own mesh (the caster draws
+    it again with our shadow material, linked to the object), or a sphere light probe with a
+    box influence and a parallax volume set per frame (effects.mirror_capture)."""
+    if prop == "shadow_caster":
+        return obj.data
     if prop == "water_body":
         data = bpy.data.meshes.new(name)
         data.from_pydata([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], [],
                          [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
                           (1, 5, 7, 3)])
         data.materials.append(water.body_material())
-        data[TAG] = True
-        return data
-    return obj.data
+    else:
+        data = bpy.data.lightprobes.new(name, "SPHERE")
+        data.influence_type, data.influence_distance, data.falloff = "BOX", 1.0, 0.0
+        data.use_custom_parallax, data.parallax_type = True, "BOX"
+    data[TAG] = True
+    return data
 
 
 def ensure_companions(obj):
-    """Our water body and shadow caster for an ocean, made hidden if missing (never in a
-    render: the render's depsgraph is built from what exists at render_init)."""
+    """Our water body, shadow caster and reflection probe for an ocean, made hidden if missing
+    (never in a render: the render's depsgraph is built from what exists at render_init)."""
     settings = obj.projgrid
     collection = obj.users_collection[0] if obj.users_collection else None
     if collection is None:
@@ -349,6 +359,7 @@ def ensure_companions(obj):
         companion[TAG] = True
         companion.hide_render = companion.hide_viewport = True
         companion.hide_select = True
+        companion.hide_probe_sphere = True  # never in our reflection's capture
         if prop == "water_body":
             companion.visible_shadow = False
         if prop == "shadow_caster":
@@ -362,31 +373,44 @@ def ensure_companions(obj):
         setattr(settings, prop, companion)
 
 
-def place_companions(obj, eye, level, on, scene, in_use):
-    """Show each companion only while an effect needs it (hidden, it costs nothing), centred
-    under the camera at the water level and as wide as EEVEE draws volumes."""
-    reach = float(scene.eevee.volumetric_end) if hasattr(scene, "eevee") else 100.0
+def _assign(target, **values):
+    """Set the attributes whose values differ (a write would tag the depsgraph again)."""
+    for name, value in values.items():
+        if not np.allclose(getattr(target, name), value):
+            setattr(target, name, value)
+
+
+def place_companions(obj, cam, level, bound, on, scene, in_use):
+    """Show each companion only while an effect needs it (hidden, it costs nothing): the water
+    body centred under the camera at the water level and as wide as EEVEE draws volumes, the
+    reflection probe at the camera mirrored in the water, reaching as far as the camera sees."""
     for prop, (_, needed_by) in COMPANIONS.items():
         companion = getattr(obj.projgrid, prop)
         if companion is None or not owns(companion):
             continue
         hide = not any(on[e] for e in needed_by)
-        if companion.hide_render != hide:
-            companion.hide_render = hide
-        if companion.hide_viewport != hide:
-            companion.hide_viewport = hide
+        _assign(companion, hide_render=hide, hide_viewport=hide)
         if prop == "shadow_caster":
-            if obj.visible_shadow != hide:
-                obj.visible_shadow = hide
-            continue
+            _assign(obj, visible_shadow=hide)
+        elif prop == "reflection_probe":
+            _assign(obj, hide_probe_sphere=not hide)
         if hide:
             continue
-        location, scale = (eye[0], eye[1], level - reach), (reach, reach, reach)  # the body
-        if not np.allclose(companion.location, location) or not np.allclose(companion.scale,
-                                                                             scale):
-            companion.location, companion.scale = location, scale
-        if companion.data.materials[0] is not None:
-            water.set_effects(companion.data.materials[0].node_tree, in_use, water.BODY_NODES)
+        if prop == "water_body":
+            reach = float(scene.eevee.volumetric_end) if hasattr(scene, "eevee") else 100.0
+            _assign(companion, location=(cam.position[0], cam.position[1], level - reach),
+                    scale=(reach,) * 3)
+            if companion.data.materials[0] is not None:
+                water.set_effects(companion.data.materials[0].node_tree, in_use,
+                                  water.BODY_NODES)
+        elif prop == "reflection_probe":
+            reach = float(np.linalg.norm(cam.corners[4:] - cam.position, axis=-1).max())
+            location, half, clip = effects.mirror_capture(cam.position, level, bound, reach)
+            _assign(companion, location=location, scale=half)
+            # The parallax volume (scaled by the slab) reaches `reach` upward: the water's
+            # reflection vector looks the capture up as if at infinity.
+            _assign(companion.data, clip_start=clip, clip_end=2.0 * reach,
+                    parallax_distance=reach / half[2])
 
 
 def effects_in_use():

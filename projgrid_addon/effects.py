@@ -3,7 +3,7 @@
 Each effect is AUTO, ON or OFF per ocean. AUTO decides each frame from `SceneFacts`: where the
 camera is against the water, which objects in view stand above, below or across the surface,
 whether a sun shines from above the horizon, and the wind. Every decision carries the reason the
-panel shows. Effects in NOT_RENDERED are decided but not drawn yet.
+panel shows.
 
 Foam follows Jensen and Golias (crests) with the whitecap coverage of Monahan and Mac Niocaill
 (Fleck Eq. 32) for the wind: the crest threshold is the height exceeded by that share of the sea,
@@ -12,7 +12,8 @@ Contact foam rings the objects that cross the surface. Caustics are the refracte
 of Jensen and Golias (Fleck Eq. 28) per vertex, for a receiving depth; the bridge turns them into
 the water's shadow transparency, so the scene's sun projects them onto whatever lies below.
 Under water, light is absorbed per channel with distance, e^(-a d) (Fleck Eq. 17), and scattered
-toward the water colour (Eq. 14).
+toward the water colour (Eq. 14). Local reflections are what the camera mirrored in the water
+sees (`mirror_capture`).
 """
 
 from dataclasses import dataclass, field
@@ -25,10 +26,6 @@ from .validation import finite, non_negative
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
            "local_reflections", "sun_glint")
 MODES = ("AUTO", "ON", "OFF")
-# Decided but not drawn yet: never active, and the reason says so. Local reflections: EEVEE's
-# screen-space tracing missed the objects in our tests, and a planar light probe at the water
-# level left dark patches wherever the waves dip below it (see the issue notes).
-NOT_RENDERED = frozenset({"local_reflections"})
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
@@ -49,6 +46,7 @@ class SceneObject:
     z_max: float
     in_view: bool
     corners: np.ndarray | None = None  # (8, 3) world box corners in Blender's bound_box order
+    mirrored_in_view: bool = False  # its mirror image in the water plane may be in view
 
 
 @dataclass
@@ -81,7 +79,8 @@ def _auto(facts):
     """{effect: (needed, reason)} at AUTO, from the facts sorted once for every effect."""
     crossing = _crossing(facts)
     below = _submerged(facts)
-    above = [o for o in facts.objects if o.in_view and o.z_max > -facts.bound]
+    mirrored = [o for o in facts.objects if o.mirrored_in_view and o.z_max > 0.0]
+    between = _between(facts)
     under = facts.camera_height < 0.0
     depth = f"camera {abs(facts.camera_height):.3g} m {'below' if under else 'above'} the surface"
     sun = facts.sun_elevation
@@ -105,10 +104,12 @@ def _auto(facts):
         caustics = (False, "nothing in view is below the surface to receive them")
     if under:
         reflections = (False, depth)
-    elif above:
-        reflections = (True, f"{_names(above)} stands above the water in view")
+    elif mirrored and between:
+        reflections = (False, _between_text(facts, between))
+    elif mirrored:
+        reflections = (True, f"{_names(mirrored)} stands above the water, mirrored in view")
     else:
-        reflections = (False, "sky only: nothing stands above the water in view")
+        reflections = (False, "sky only: nothing above the water is mirrored in view")
     return {
         "foam": (cover >= FOAM_MIN_COVERAGE,
                  f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"),
@@ -125,7 +126,7 @@ def _auto(facts):
 
 def decide(modes, facts):
     """{effect: (on, reason)} for every effect; `modes` maps effects to AUTO, ON or OFF (AUTO
-    when missing). Effects in NOT_RENDERED are never on."""
+    when missing)."""
     decisions = {}
     auto = None
     for effect in EFFECTS:
@@ -139,8 +140,8 @@ def decide(modes, facts):
         else:
             auto = auto or _auto(facts)
             on, reason = auto[effect]
-        if on and effect in NOT_RENDERED:
-            on, reason = False, f"needed ({reason}) but not rendered yet"
+        if mode == "ON" and effect == "local_reflections" and _between(facts):
+            reason = f"{reason}, but {_between_text(facts, _between(facts))}"
         decisions[effect] = (on, reason)
     return decisions
 
@@ -183,6 +184,21 @@ def foam_amount(heights, threshold, softness):
     foam = np.subtract(heights, threshold, dtype=np.float32)
     foam *= np.float32(1.0 / softness)
     return np.clip(foam, 0.0, 1.0, out=foam)
+
+
+def _between(facts):
+    """Objects wholly under the water between the mirror capture (effects.mirror_capture) and
+    the water it is seen through: in the capture they stand in front of what the water mirrors.
+    Mirrored, such a point lies between the camera and the water it sees."""
+    if facts.camera_height <= 0.0:
+        return []
+    return [o for o in facts.objects
+            if o.mirrored_in_view and -facts.camera_height < o.z_max <= 0.0]
+
+
+def _between_text(facts, between):
+    return (f"{_names(between)} would show in the reflection (under the water, shallower than "
+            f"the camera's {facts.camera_height:.3g} m, in front of the mirror image)")
 
 
 def _submerged(facts):
@@ -268,3 +284,20 @@ def caustic_shadow(intensity):
     """The water's shadow transparency in [0, 1] from caustic intensities: CAUSTIC_MEAN for flat
     water, 1 where the light is focused twice as much or more."""
     return np.clip(np.asarray(intensity, dtype=np.float32) * np.float32(CAUSTIC_MEAN), 0.0, 1.0)
+
+
+def mirror_capture(eye, level, bound, reach):
+    """Where local reflections are captured: (location, half extents, clip start).
+
+    A flat mirror at `level` shows the eye what the eye mirrored in the plane sees through it:
+    the reflected ray at every surface point continues the ray from the mirrored eye. A sphere
+    capture there, looked up along the water's reflection vector without parallax, is that
+    mirror, bent by the waves' normals. It is clipped at the plane (nothing nearer than the eye's
+    height), and its influence is a slab from the mirrored eye to the crests, `reach` metres
+    each way, so glossy objects above the waves keep their own reflections.
+    """
+    eye = np.asarray(eye, dtype=np.float64)
+    height = abs(float(eye[2]) - level)
+    location = (float(eye[0]), float(eye[1]), 2.0 * level - float(eye[2]))
+    reach = max(float(reach), 1e-3)
+    return location, (reach, reach, height + max(float(bound), 0.0)), max(height, 1e-3)

@@ -50,7 +50,7 @@ def depsgraph_update_post(scene, depsgraph):
 
 
 def ensure_companions(scene):
-    """Every ocean's water body and reflection plane exist (hidden until an effect needs them)."""
+    """Every ocean's companions exist (hidden until an effect needs them)."""
     for obj in bridge.ocean_objects(scene):
         bridge.ensure_companions(obj)
 

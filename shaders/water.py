@@ -5,7 +5,8 @@
 F is the exact unpolarised Fresnel reflectance (Eq. 1.4) for IOR 1.333, written with math nodes in
 the form Blender's own Fresnel node uses (g = sqrt(eta^2 - 1 + c^2), total internal reflection
 when g^2 < 0; eta inverted on back faces, i.e. seen from under water). The sky is reflected along
-the reflection vector by a sharp glossy BSDF (the world), the sun glint is the Phong term of
+the reflection vector by a sharp glossy BSDF (the world, or with local reflections our sphere
+probe's capture from the camera mirrored in the water), the sun glint is the Phong term of
 §3.4.5, max(0, R.L)^shininess, from the scene's sun lamp, and the refraction is the water colour
 (from below, the sky through Snell's window).
 The octaves the geometry left out (GridResult.shader_octaves) come back as bump detail, faded in

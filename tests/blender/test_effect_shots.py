@@ -73,6 +73,10 @@ def check(name, path):
     compare_with_reference(name, path)
 
 
+def yellowness(img):
+    return (img[..., 0] + img[..., 1]).mean() / 2.0 - img[..., 2].mean()
+
+
 def redness(img):
     return img[..., 0].mean() / max(img.mean(), 1e-6)
 
@@ -80,6 +84,7 @@ def redness(img):
 def test_effects_above_the_water(tmp_path):
     scene, cam, ocean = setup(3.0, -12.0)
     scene.frame_set(1)
+    # The block would show in the buoy's reflection: local reflections stay off (test_effects).
     assert ocean.projgrid.active_effects == {"FOAM", "CONTACT_FOAM", "REFRACTION", "CAUSTICS",
                                              "SUN_GLINT"}
     img = render(scene, str(tmp_path / "above"))
@@ -88,6 +93,8 @@ def test_effects_above_the_water(tmp_path):
     block = region(scene, cam, (-1.5, 12.0, -1.0))
     ring = [region(scene, cam, (2.5 + dx, 16.0, 0.0), (1, 1)) for dx in (-0.9, 0.9)]
     beside = region(scene, cam, (7.0, 16.0, 0.0), (1, 1))  # open water at the same distance
+    # The buoy's mirror image: a flat mirror shows a point where the mirrored point projects.
+    mirrored = region(scene, cam, (2.5, 16.0, -1.0), (1, 1))
 
     ocean.projgrid.caustics = "OFF"
     off = render(scene, str(tmp_path / "no_caustics"))
@@ -104,6 +111,18 @@ def test_effects_above_the_water(tmp_path):
     # Contact foam: white at the buoy's waterline, brighter than open water beside it.
     assert min(luminance(opaque[r]).mean() for r in ring) > (
         luminance(opaque[beside]).mean() + 0.05)
+
+
+    bpy.data.objects.remove(bpy.data.objects["Block"])  # nothing in front of the mirror image
+    scene.frame_set(12)
+    assert "LOCAL_REFLECTIONS" in ocean.projgrid.active_effects
+    mirror = render(scene, str(tmp_path / "reflections"))
+    check("effects_reflections", str(tmp_path / "reflections0012.png"))
+    ocean.projgrid.local_reflections = "OFF"
+    sky_only = render(scene, str(tmp_path / "no_reflections"))
+    # The yellow buoy in the water below it (sky only: the blue-grey sky there).
+    assert yellowness(mirror[mirrored]) > yellowness(sky_only[mirrored]) + 0.05
+    assert np.abs(mirror - sky_only)[:8].max() < 0.01  # the sky (above 4° up) is untouched
 
 
 

@@ -40,7 +40,8 @@ def test_a_bare_ocean_turns_on_only_the_sun_glint(ocean):
     assert ocean.projgrid.active_effects == {"SUN_GLINT"}
     lines = effect_lines(ocean)
     assert lines["sun_glint"].startswith("on: sun ") and "above the horizon" in lines["sun_glint"]
-    assert lines["local_reflections"] == "off: sky only: nothing stands above the water in view"
+    assert lines["local_reflections"] == (
+        "off: sky only: nothing above the water is mirrored in view")
     assert lines["foam"].startswith("off: wind 3 m/s")
     assert group().nodes["Foam"].mute and not group().nodes["Sun Glint"].mute
 
@@ -95,7 +96,8 @@ def attribute(obj, name):
 
 
 def companions(ocean):
-    return ocean.projgrid.water_body, ocean.projgrid.shadow_caster
+    p = ocean.projgrid
+    return p.water_body, p.shadow_caster, p.reflection_probe
 
 
 def shown(obj):
@@ -103,20 +105,25 @@ def shown(obj):
 
 
 def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge):
-    body, caster = companions(ocean)
+    body, caster, probe = companions(ocean)
     assert not any(shown(c) for c in companions(ocean))  # made hidden with the ocean
-    assert ocean.visible_shadow
+    assert ocean.visible_shadow and not ocean.hide_probe_sphere
     add_box("Buoy", (0.0, 40.0, 0.0))  # crosses the surface in view, the sun above
     bpy.context.view_layer.update()
     lines = effect_lines(ocean)
-    assert lines["local_reflections"] == (
-        "off: needed ('Buoy' stands above the water in view) but not rendered yet")
+    assert lines["local_reflections"] == "on: 'Buoy' stands above the water, mirrored in view"
     assert lines["contact_foam"] == "on: 'Buoy' crosses the surface in view"
     assert lines["refraction"] == "on: 'Buoy' is below the surface in view"
     assert lines["caustics"].startswith("on: sun ")
     assert ocean.projgrid.active_effects == {"SUN_GLINT", "CONTACT_FOAM", "REFRACTION",
-                                             "CAUSTICS"}
-    assert shown(body) and shown(caster)
+                                             "CAUSTICS", "LOCAL_REFLECTIONS"}
+    assert shown(body) and shown(caster) and shown(probe)
+    # The reflection is captured by the camera mirrored in the water, which leaves out the
+    # water and our own objects and clips at the surface.
+    eye = bpy.context.scene.camera.location
+    assert tuple(probe.location) == pytest.approx((eye.x, eye.y, -eye.z), abs=1e-5)
+    assert probe.data.clip_start == pytest.approx(eye.z, rel=1e-5)
+    assert ocean.hide_probe_sphere and body.hide_probe_sphere and caster.hide_probe_sphere
     assert not ocean.visible_shadow and caster.data == ocean.data  # the caster casts it
     assert caster.material_slots[0].material.name == "Projected Grid Water Shadow"
     assert body.location.z == pytest.approx(-bpy.context.scene.eevee.volumetric_end)
@@ -138,9 +145,24 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     assert effect_lines(ocean)["contact_foam"] == "off: nothing in view crosses the surface"
     assert ocean.projgrid.active_effects == {"SUN_GLINT"}
     assert not any(shown(c) for c in companions(ocean)) and ocean.visible_shadow
+    assert not ocean.hide_probe_sphere  # the user's own sphere probes see the water again
     assert "projgrid_foam" not in ocean.data.attributes
     assert "projgrid_caustics" not in ocean.data.attributes
     assert all(nodes[n].mute for n in ("Foam", "Refraction"))
+
+
+def test_a_rock_in_front_of_the_mirror_image_keeps_reflections_off(ocean):
+    add_box("Mast", (0.0, 40.0, 4.0))
+    rock = add_box("Rock", (0.0, 30.0, -2.0))  # 1 m under the water, the camera 6 m above it
+    bpy.context.view_layer.update()
+    assert effect_lines(ocean)["local_reflections"].startswith(
+        "off: 'Rock' would show in the reflection")
+    assert not shown(ocean.projgrid.reflection_probe) and not ocean.hide_probe_sphere
+    rock.location.z = -8.0  # below the capture point: out of its way
+    bpy.context.view_layer.update()
+    assert effect_lines(ocean)["local_reflections"] == (
+        "on: 'Mast' stands above the water, mirrored in view")
+    assert shown(ocean.projgrid.reflection_probe) and ocean.hide_probe_sphere
 
 
 def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
@@ -151,8 +173,8 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
     assert lines["underwater"] == "on: camera 3 m below the surface"
     assert lines["godrays"].startswith("on: camera 3 m below the surface, sun ")
     assert lines["refraction"].startswith("off: camera 3 m below")
-    body, caster = companions(ocean)
-    assert shown(body) and shown(caster)
+    body, caster, probe = companions(ocean)
+    assert shown(body) and shown(caster) and not shown(probe)
     assert tuple(body.location)[:2] == pytest.approx(tuple(scene.camera.location)[:2], abs=1e-6)
     assert not body.data.materials[0].node_tree.nodes["Godrays"].mute
     assert "projgrid_caustics" in ocean.data.attributes  # the godrays follow the caustics
@@ -184,12 +206,13 @@ def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
 
 
 def test_our_companions_are_ours_and_not_scene_objects(ocean, bridge):
-    body, caster = companions(ocean)
-    assert all(bridge.owns(c) and bridge.owns(c.data) for c in (body, caster))
-    assert [c.name for c in companions(ocean)] == ["Ocean Water Body", "Ocean Shadow"]
-    bpy.data.objects.remove(body)  # deleted by the user: made again, hidden, on the next build
-    ocean.projgrid.seed = 4
-    assert ocean.projgrid.water_body is not None and not shown(ocean.projgrid.water_body)
+    assert all(bridge.owns(c) and bridge.owns(c.data) for c in companions(ocean))
+    assert [c.name for c in companions(ocean)] == ["Ocean Water Body", "Ocean Shadow",
+                                                   "Ocean Reflection"]
+    bpy.data.objects.remove(ocean.projgrid.reflection_probe)  # deleted by the user: made
+    ocean.projgrid.seed = 4  # again, hidden, on the next build
+    probe = ocean.projgrid.reflection_probe
+    assert probe is not None and probe.type == "LIGHT_PROBE" and not shown(probe)
 
 
 def test_active_effects_is_read_only(ocean):

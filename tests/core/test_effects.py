@@ -20,7 +20,7 @@ def on(decisions):
 def test_bare_calm_ocean_without_sun_needs_nothing():
     d = decide({}, facts())
     assert on(d) == set()
-    assert d["local_reflections"][1] == "sky only: nothing stands above the water in view"
+    assert d["local_reflections"][1] == "sky only: nothing above the water is mirrored in view"
     assert d["sun_glint"][1] == "no sun lamp"
 
 
@@ -48,20 +48,19 @@ def test_modes_override_auto_and_bad_modes_name_the_effect():
 
 
 def test_objects_decide_by_their_place_against_the_water_and_the_view():
-    boat = SceneObject("Boat", -0.5, 3.0, True)
+    boat = SceneObject("Boat", -0.5, 3.0, True, mirrored_in_view=True)
     rock = SceneObject("Rock", -8.0, -4.0, True)
-    gull = SceneObject("Gull", 20.0, 21.0, True)
+    gull = SceneObject("Gull", 20.0, 21.0, False, mirrored_in_view=True)  # above the view
     hidden = SceneObject("Behind", -5.0, 5.0, False)
     d = decide({}, facts(objects=[hidden]))
-    assert not any(d[e][0] or "needed" in d[e][1] for e in
+    assert not any(d[e][0] for e in
                    ("contact_foam", "refraction", "caustics", "local_reflections"))
     d = decide({}, facts(objects=[boat, rock, gull], sun_elevation=40.0))
-    assert on(d) == {"contact_foam", "refraction", "caustics", "sun_glint"}
+    assert on(d) == {"contact_foam", "refraction", "caustics", "local_reflections", "sun_glint"}
     assert d["contact_foam"][1] == "'Boat' crosses the surface in view"
     assert d["refraction"][1] == "'Boat', 'Rock' is below the surface in view"
     assert d["caustics"][1].startswith("sun 40° above the horizon, 'Boat', 'Rock'")
-    assert d["local_reflections"] == (
-        False, "needed ('Boat', 'Gull' stands above the water in view) but not rendered yet")
+    assert d["local_reflections"][1] == "'Boat', 'Gull' stands above the water, mirrored in view"
     d = decide({}, facts(objects=[boat, rock, gull, hidden], sun_elevation=-3.0))
     assert not d["caustics"][0] and "below the horizon" in d["caustics"][1]
 
@@ -75,9 +74,46 @@ def test_underwater_camera():
     assert on(decide({}, facts(camera_height=-3.0))) == {"underwater"}  # no sun: no godrays
 
 
-def test_switched_on_effects_are_active_unless_not_rendered_yet():
+def test_local_reflections_need_a_mirror_image_in_view_and_nothing_in_front_of_it():
+    mast = SceneObject("Mast", 0.0, 8.0, True, mirrored_in_view=True)
+    assert not decide({}, facts(objects=[SceneObject("Mast", 0.0, 8.0, True)]))[
+        "local_reflections"][0]  # seen, but its mirror image is not
+    assert not decide({}, facts(objects=[mast], camera_height=-2.0))["local_reflections"][0]
+    # Under a camera 3 m up, a floor 4 m down is below the capture point; one 2 m down stands
+    # in front of the mirror image, unless its own mirror image is out of view.
+    deep, shallow, aside = (SceneObject("Floor", -d - 1.0, -d, True, mirrored_in_view=m)
+                            for d, m in ((4.0, True), (2.0, True), (2.0, False)))
+    for floor in (deep, aside):
+        d = decide({}, facts(objects=[mast, floor], camera_height=3.0))
+        assert d["local_reflections"] == (True, "'Mast' stands above the water, mirrored in view")
+    d = decide({}, facts(objects=[mast, shallow], camera_height=3.0))
+    why = ("'Floor' would show in the reflection (under the water, shallower than the camera's "
+           "3 m, in front of the mirror image)")
+    assert d["local_reflections"] == (False, why)
+    d = decide({"local_reflections": "ON"}, facts(objects=[mast, shallow], camera_height=3.0))
+    assert d["local_reflections"] == (True, f"switched on, but {why}")
+
+
+def test_the_mirror_capture_continues_every_reflected_ray():
+    """Flat water: the ray from the eye to any surface point, reflected there, runs along the
+    line from the capture point through that surface point."""
+    eye, level = np.array([3.0, -2.0, 7.5]), 1.5
+    location, half, clip = effects.mirror_capture(eye, level, 0.8, 500.0)
+    assert location == (3.0, -2.0, -4.5) and clip == 6.0
+    assert half == (500.0, 500.0, 6.8)  # the slab reaches the crests, level + bound
+    rng = np.random.default_rng(2)
+    points = np.column_stack([rng.uniform(-200, 200, (50, 2)), np.full(50, level)])
+    incoming = points - eye
+    reflected = incoming * (1.0, 1.0, -1.0)
+    from_capture = points - np.array(location)
+    cross = np.cross(reflected, from_capture)
+    assert np.abs(cross).max() <= 1e-9 * np.abs(reflected).max() * np.abs(from_capture).max()
+    assert (np.einsum("ij,ij->i", reflected, from_capture) > 0).all()  # same direction
+
+
+def test_switched_on_effects_are_active():
     everything = dict.fromkeys(effects.EFFECTS, "ON")
-    assert on(decide(everything, facts())) == set(effects.EFFECTS) - effects.NOT_RENDERED
+    assert on(decide(everything, facts())) == set(effects.EFFECTS)
 
 
 def test_boxes_in_view():
