@@ -206,6 +206,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         write_mesh(mesh, result, np.linalg.inv(linear))
         write_foam(mesh, result, hf, settings, t, on, facts, world[2, 3])
         write_caustics(mesh, result, facts, on)
+        write_godrays(obj, hf, t, cam, world[2, 3], facts, on)
     except ValueError as e:
         return _refuse(state, mesh, str(e))
     state.update(key=key, message=None, vertices=len(result.positions), grid=result,
@@ -305,13 +306,36 @@ def write_foam(mesh, result, hf, settings, t, on, facts, level):
 
 
 def write_caustics(mesh, result, facts, on):
-    """The caustic shadow (Fleck Eq. 28), while caustics or the godrays they drive are on."""
+    """The caustic shadow (Fleck Eq. 28), while caustics are on."""
     values = None
-    if result.visible and (on["caustics"] or on["godrays"]) and facts.sun_direction is not None:
+    if result.visible and on["caustics"] and facts.sun_direction is not None:
         intensity = effects.caustic_intensity(result.surface, facts.sun_direction,
                                               effects.receiving_depth(facts))
         values = effects.caustic_shadow(intensity) - np.float32(effects.CAUSTIC_MEAN)
     write_attribute(mesh, water.CAUSTIC_ATTRIBUTE, values)
+
+
+GODRAY_TILE_SIZE = 32.0  # metres across the godrays' caustic tile (repeated beyond)
+
+
+def write_godrays(obj, hf, t, cam, level, facts, on):
+    """While godrays are on: the caustic tile around the camera into the water body's material.
+    Texel-aligned, so the pattern stays put in the world as the camera moves."""
+    body = obj.projgrid.water_body
+    if not on["godrays"] or facts.sun_direction is None or body is None or not owns(body):
+        return
+    mat = body.data.materials[0] if len(body.data.materials) else None
+    if mat is None or not owns(mat):
+        return
+    size = GODRAY_TILE_SIZE
+    texel = size / water.CAUSTIC_TILE
+    centre = np.round(np.asarray(cam.position[:2]) / texel) * texel
+    depth = max(-facts.camera_height, 1.0)  # the light around the eye
+    tile = effects.caustic_tile(hf, t, centre, size, water.CAUSTIC_TILE, facts.sun_direction,
+                                depth)
+    np.clip(tile, 0.0, 4.0, out=tile)  # a focus's singular peak would be a firefly
+    water.update_godrays(mat, tile, effects.tile_lookup(facts.sun_direction, level,
+                                                        centre - 0.5 * size, size))
 
 
 COMPANIONS = {  # setting: (name suffix, effects that show it)

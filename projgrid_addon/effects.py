@@ -301,3 +301,37 @@ def mirror_capture(eye, level, bound, reach):
     location = (float(eye[0]), float(eye[1]), 2.0 * level - float(eye[2]))
     reach = max(float(reach), 1e-3)
     return location, (reach, reach, height + max(float(bound), 0.0)), max(height, 1e-3)
+
+
+def refracted_sun(sun_direction, ior=1.333):
+    """Unit direction of the sun's light under flat water (Snell's law, Fleck §2.1.2): downward,
+    bent toward the vertical."""
+    sun = np.asarray(sun_direction, dtype=np.float64)
+    sun = sun / np.linalg.norm(sun)
+    eta = 1.0 / ior
+    cos = max(float(sun[2]), 0.0)
+    return -eta * sun + (eta * cos - np.sqrt(1.0 - eta * eta * (1.0 - cos * cos))) * np.array(
+        (0.0, 0.0, 1.0))
+
+
+def caustic_tile(height_field, time, centre, size, n, sun_direction, depth):
+    """Caustic intensity (Fleck Eq. 28) on a regular n x n grid of world points `size` metres
+    square, rows along y and columns along x as an image's pixels, its lower-left corner at
+    `centre` minus half the size. The godrays light the water body with it, looked up along the
+    refracted sun (Jensen and Golias light their volume slices with the caustic pattern)."""
+    k = (np.arange(n) + 0.5) * (size / n) - 0.5 * size
+    x, y = np.meshgrid(centre[0] + k, centre[1] + k)
+    h = height_field.heights(x, y, time)
+    return caustic_intensity((x, y, h), sun_direction, depth).reshape(n, n)
+
+
+def tile_lookup(sun_direction, level, corner, size, ior=1.333):
+    """(a, b, c): the tile's texture coordinates of a point Q under the water are
+    (a.Q + c[0], b.Q + c[1]): Q carried up the refracted sun ray to the water `level`, then
+    measured from the tile's lower-left `corner` in units of its `size`."""
+    d = refracted_sun(sun_direction, ior)
+    sx, sy = d[0] / d[2], d[1] / d[2]
+    a = np.array((1.0, 0.0, -sx)) / size
+    b = np.array((0.0, 1.0, -sy)) / size
+    c = ((sx * level - corner[0]) / size, (sy * level - corner[1]) / size)
+    return a, b, c

@@ -16,9 +16,10 @@ Effects are branches muted while off (a muted mix or add shader passes its first
 the branch is neither compiled nor evaluated): foam, the glint, and refraction (the water colour
 replaced by transparency, dithered; the water body's volume then absorbs and tints what lies
 below, Fleck Eq. 14/17). The water's shadow is cast by a caster object of ours with its own
-material, transparent by the caustics: the scene's sun projects them onto submerged geometry and,
-through the water body, into godrays. (EEVEE's blended render method took 7 minutes for a
-320 x 180 still on the CPU, dithered 1 to 2, so refraction stays dithered.)
+material, transparent by the caustics: the scene's sun projects them onto submerged geometry.
+The godrays scatter in the water body by a caustic tile of ours (CAUSTIC_IMAGE). (EEVEE's
+blended render method took 7 minutes for a 320 x 180 still on the CPU, dithered 1 to 2, so
+refraction stays dithered.)
 The water body is a volume of our own: absorption a per channel and emission a * water colour, so
 that radiance after d metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14 and 17).
 """
@@ -33,7 +34,8 @@ GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
-VERSION = 4  # stored in the TAG property; a group or material of another version is rebuilt
+CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
+VERSION = 5  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus CAUSTIC_MEAN, written while caustics or godrays
@@ -43,6 +45,8 @@ CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Sun Glint": ("sun_glint",),
                 "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
+GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
+CAUSTIC_TILE = 256  # texels across the godrays' caustic tile
 
 INPUTS = (  # name, socket type, default; the last group is written by the frame handler
     ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
@@ -189,7 +193,9 @@ def shadow_material():
 
 
 def body_material():
-    """The water body's volume (Fleck Eq. 14/17), with the godrays' in-scattering of the sun."""
+    """The water body's volume (Fleck Eq. 14/17), with the godrays' in-scattering of the sun:
+    scattering in proportion to the caustic intensity where the sun's ray to each point entered
+    the water, so the light's pattern becomes shafts along the refracted sun."""
     mat, g = _versioned_material(BODY_MATERIAL)
     if g is None:
         return mat
@@ -200,12 +206,57 @@ def body_material():
     glow = g.node("ShaderNodeEmission", {"Color": (*(emitted / emitted.max()), 1.0),
                                          "Strength": float(emitted.max())})
     water = g.node("ShaderNodeAddShader", {0: absorb.outputs[0], 1: glow.outputs[0]})
-    scatter = g.node("ShaderNodeVolumeScatter", {"Color": (0.6, 0.9, 1.0, 1.0), "Density": 0.05})
+    position = g.node("ShaderNodeNewGeometry").outputs["Position"]
+    uv = []
+    for axis in ("U", "V"):  # set per frame by update_godrays
+        dot = g.vector("DOT_PRODUCT", position, (0.0, 0.0, 0.0))
+        dot.node.name = f"Caustic {axis}"
+        offset = g.math("ADD", dot, 0.0)
+        offset.node.name = f"Caustic {axis} Offset"
+        uv.append(offset)
+    tile = g.node("ShaderNodeTexImage", {"Vector": g.node("ShaderNodeCombineXYZ", {
+        "X": uv[0], "Y": uv[1]}).outputs[0]}, image=caustic_image(), interpolation="Linear",
+        extension="REPEAT")
+    scatter = g.node("ShaderNodeVolumeScatter", {
+        "Color": (0.6, 0.9, 1.0, 1.0),
+        "Density": g.math("MULTIPLY", tile.outputs["Color"], GODRAY_DENSITY)})
     godrays = g.node("ShaderNodeAddShader", {0: water.outputs[0], 1: scatter.outputs[0]})
     godrays.name = "Godrays"
     out = g.node("ShaderNodeOutputMaterial")
     g.set(out.inputs["Volume"], godrays.outputs[0])
     return mat
+
+
+def caustic_image(size=CAUSTIC_TILE):
+    """Our float image holding the godrays' caustic tile (its pixels are written per frame)."""
+    image = bpy.data.images.get(CAUSTIC_IMAGE)
+    if image is not None and image.get(TAG) and tuple(image.size) == (size, size):
+        return image
+    image = bpy.data.images.new(CAUSTIC_IMAGE, size, size, float_buffer=True, is_data=True)
+    image[TAG] = True
+    return image
+
+
+def update_godrays(mat, tile, lookup):
+    """The caustic tile's intensities (n x n) into our image and its `lookup`
+    (effects.tile_lookup) into the body material."""
+    nodes = mat.node_tree.nodes
+    image = next((n.image for n in nodes if n.type == "TEX_IMAGE"), None)
+    if image is None or not image.get(TAG):
+        return
+    rgba = np.empty((*tile.shape, 4), dtype=np.float32)
+    rgba[..., :3] = tile[..., None]
+    rgba[..., 3] = 1.0
+    image.pixels.foreach_set(rgba.ravel())
+    image.update()
+    # Packed, it is not a "modified image" Blender offers to save when the file closes (1.5 ms
+    # for 256 x 256, measured).
+    image.pack()
+    a, b, c = lookup
+    _set(nodes["Caustic U"].inputs[1], tuple(a))
+    _set(nodes["Caustic V"].inputs[1], tuple(b))
+    _set(nodes["Caustic U Offset"].inputs[1], float(c[0]))
+    _set(nodes["Caustic V Offset"].inputs[1], float(c[1]))
 
 
 def material():

@@ -154,6 +154,27 @@ def test_effects_under_the_water(tmp_path):
     assert np.isfinite(img).all()
 
 
+def test_godrays_scatter_along_the_caustic_pattern(tmp_path, bridge, monkeypatch):
+    """The water body scatters in proportion to the caustic tile, looked up along the refracted
+    sun from where each point's sunlight entered the water. With a tile of 8 m stripes along x,
+    swapped on odd frames, the near water on one side of the camera scatters and the other does
+    not: the brighter side changes with the frame (the tile is rewritten inside the render)."""
+    def stripes(height_field, time, centre, size, n, sun, depth):
+        band = (np.arange(n) * (size / n) // 8.0 + 1).astype(int) % 2  # 1 on [x, x + 8 m)
+        frame = round(time * bpy.context.scene.render.fps)
+        return np.broadcast_to(2.0 * (band ^ (frame % 2)), (n, n)).astype(np.float32)
+
+    monkeypatch.setattr(bridge.effects, "caustic_tile", stripes)
+    scene, cam, ocean = setup(3.0, 0.0)
+    cam.location.z = -2.0
+    brighter = []
+    for frame in (12, 13):
+        img = luminance(render(scene, str(tmp_path / "stripes"), frame))
+        third = SIZE[0] // 3
+        brighter.append(img[:, -third:].mean() - img[:, :third].mean())  # right minus left
+    assert brighter[0] > brighter[1] + 0.02
+
+
 @pytest.fixture(autouse=True)
 def _small_volumes():
     """Test scenes only: coarser EEVEE volumes keep the underwater shot quick on the CPU."""

@@ -177,7 +177,12 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
     assert shown(body) and shown(caster) and not shown(probe)
     assert tuple(body.location)[:2] == pytest.approx(tuple(scene.camera.location)[:2], abs=1e-6)
     assert not body.data.materials[0].node_tree.nodes["Godrays"].mute
-    assert "projgrid_caustics" in ocean.data.attributes  # the godrays follow the caustics
+    # The godrays scatter by the caustic tile around the camera (its lookup: test_effect_shots).
+    image = bpy.data.images["Projected Grid Caustics"]
+    assert not image.is_dirty  # nothing to save when the file closes
+    tile = np.empty(256 * 256 * 4, np.float32)
+    image.pixels.foreach_get(tile)
+    assert tile[0::4].std() > 0.01 and 0.0 <= tile.min() and tile.max() <= 4.0
     sun = next(o for o in scene.objects if o.type == "LIGHT")
     sun.hide_render = True  # no sun: no godrays, no caustics
     scene.frame_set(2)
@@ -189,7 +194,8 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
 def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
     calls = []
     effects = bridge.effects
-    for name in ("contact_foam", "caustic_intensity", "foam_threshold", "receiving_depth"):
+    for name in ("contact_foam", "caustic_intensity", "caustic_tile", "foam_threshold",
+                 "receiving_depth"):
         real = getattr(effects, name)
         monkeypatch.setattr(effects, name,
                             lambda *a, _n=name, _f=real: calls.append(_n) or _f(*a))

@@ -206,3 +206,28 @@ def test_receiving_depth_is_where_the_submerged_objects_are():
     far = SceneObject("Far", -40.0, -30.0, False)
     assert effects.receiving_depth(facts(objects=[floor, rock, pier, far])) == 2.0
     assert effects.receiving_depth(facts(objects=[floor])) == 6.0
+
+
+def test_the_godrays_look_the_caustic_tile_up_along_the_refracted_sun():
+    sun = np.array([0.3, -0.2, 0.6])
+    d = effects.refracted_sun(sun)
+    assert np.linalg.norm(d) == pytest.approx(1.0) and d[2] < 0
+    sin_in = np.linalg.norm(np.cross(sun / np.linalg.norm(sun), (0, 0, 1)))
+    assert np.linalg.norm(np.cross(d, (0, 0, 1))) == pytest.approx(sin_in / 1.333)  # Snell
+    level, corner, size = 0.5, (10.0, -20.0), 64.0
+    a, b, c = effects.tile_lookup(sun, level, corner, size)
+    entry = np.array([30.0, 5.0, level])  # where the sun ray enters the water
+    for s in (0.0, 3.0, 12.0):
+        q = entry + s * d  # further down the same ray
+        uv = (a @ q + c[0], b @ q + c[1])
+        assert uv == pytest.approx(((30.0 - 10.0) / 64.0, (5.0 + 20.0) / 64.0))
+
+
+def test_the_caustic_tile_is_the_caustics_on_a_regular_grid():
+    hf = HeightField(amplitude=0.4, octaves=4, wave_scale=10.0)
+    tile = effects.caustic_tile(hf, 2.0, (5.0, 7.0), 32.0, 64, (0.2, 0.1, 0.9), 3.0)
+    assert tile.shape == (64, 64) and tile.dtype == np.float32
+    assert tile.mean() == pytest.approx(1.0, abs=0.1) and tile.std() > 0.05
+    flat = effects.caustic_tile(HeightField(amplitude=0.0), 2.0, (5.0, 7.0), 32.0, 16,
+                                (0.2, 0.1, 0.9), 3.0)
+    assert np.allclose(flat, 1.0, atol=1e-5)
