@@ -367,6 +367,24 @@ def _new_companion(obj, prop, name):
     return data
 
 
+COMPANION = "projgrid_companion"  # ID property naming a companion's setting on its ocean
+
+
+def remove_orphan_companions():
+    """Delete our companions no ocean points to any more (its ocean was deleted), with their
+    data when nothing else uses it; returns how many."""
+    kept = {getattr(o.projgrid, prop) for o in bpy.data.objects if o.projgrid.is_ocean
+            for prop in COMPANIONS}
+    orphans = [o for o in bpy.data.objects if o.get(COMPANION) and owns(o) and o not in kept]
+    for obj in orphans:
+        data, obj_type = obj.data, obj.type
+        bpy.data.objects.remove(obj)
+        if data is not None and owns(data) and data.users == 0:
+            kind = bpy.data.lightprobes if obj_type == "LIGHT_PROBE" else bpy.data.meshes
+            kind.remove(data)
+    return len(orphans)
+
+
 def ensure_companions(obj):
     """Our water body, shadow caster and reflection probe for an ocean, made hidden if missing
     (never in a render: the render's depsgraph is built from what exists at render_init)."""
@@ -377,10 +395,13 @@ def ensure_companions(obj):
     for prop, (suffix, _) in COMPANIONS.items():
         current = getattr(settings, prop)
         if current is not None and owns(current) and current.name in bpy.data.objects:
+            if current.get(COMPANION) != prop:  # made before the key existed
+                current[COMPANION] = prop
             continue
         companion = bpy.data.objects.new(obj.name + suffix, _new_companion(obj, prop,
                                                                            obj.name + suffix))
         companion[TAG] = True
+        companion[COMPANION] = prop
         companion.hide_render = companion.hide_viewport = True
         companion.hide_select = True
         companion.hide_probe_sphere = True  # never in our reflection's capture

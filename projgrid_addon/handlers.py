@@ -12,6 +12,8 @@ from bpy.app.handlers import persistent
 
 from . import bridge
 
+# bpy.data.objects' length at the last depsgraph update: fewer means something was deleted.
+OBJECT_COUNT = {"n": 0}
 LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
                 "(the ocean mesh is rebuilt while rendering)")
 
@@ -40,6 +42,10 @@ def depsgraph_update_post(scene, depsgraph):
     skipped by update_ocean, so this cannot loop."""
     if bridge.RENDERING["active"] or depsgraph.mode == "RENDER":
         return
+    count = len(bpy.data.objects)
+    if count < OBJECT_COUNT["n"]:
+        bridge.remove_orphan_companions()  # an ocean deleted takes its companions with it
+    OBJECT_COUNT["n"] = len(bpy.data.objects)
     oceans = bridge.ocean_objects(scene)
     if not oceans:
         return
@@ -78,6 +84,7 @@ def load_pre(*_):
 @persistent
 def load_post(*_):
     bridge.RENDERING["active"] = False
+    bridge.remove_orphan_companions()
     for scene in bpy.data.scenes:
         ensure_companions(scene)
         message = ensure_lock_interface(scene)

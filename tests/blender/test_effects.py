@@ -221,6 +221,18 @@ def test_our_companions_are_ours_and_not_scene_objects(ocean, bridge):
     assert probe is not None and probe.type == "LIGHT_PROBE" and not shown(probe)
 
 
+def test_deleting_an_ocean_deletes_its_companions_only(ocean):
+    other = add_ocean()
+    mine, theirs = companions(ocean), companions(other)
+    names = [c.name for c in mine]
+    bpy.data.objects.remove(ocean)
+    bpy.context.view_layer.update()
+    assert not set(names) & set(bpy.data.objects.keys())
+    assert "Ocean Water Body" not in bpy.data.meshes  # its box went with it
+    assert all(c.name in bpy.data.objects for c in theirs)
+    assert companions(other) == theirs
+
+
 def test_active_effects_is_read_only(ocean):
     with pytest.raises((AttributeError, TypeError)):
         ocean.projgrid.active_effects = {"FOAM"}

@@ -301,8 +301,10 @@ def write(results, docs):
                "AUTO (the bare ocean: a sun above the horizon calls for the glint, nothing "
                "else; without the sun nothing at all), and with each effect forced on alone; "
                "and the default shot's EEVEE render time (320×180, 4 samples, each variant's "
-               "shader compiled first). The default shot has no other objects, so contact "
-               "foam and caustics forced on have nothing to ring or to focus for.", "",
+               "shader compiled first; the two no-sun variants, which share a shader, rendered "
+               "alternately). The default shot has no other objects, so contact foam and "
+               "caustics forced on have nothing to ring or to focus for, and local reflections "
+               "forced on capture only the sky.", "",
                _table(rows, [("variant", "variant", ""), ("active effects", "active", ""),
                              ("rebuild ms", "ms", ".2f"), ("× all off", "ratio", ".3f"),
                              ("render s", "render", ".2f"),
