@@ -392,9 +392,14 @@ def ensure_companions(obj):
     collection = obj.users_collection[0] if obj.users_collection else None
     if collection is None:
         return
+    # A duplicated ocean (Shift+D) has its original's settings, pointers included: the caster,
+    # parented to the original, tells, and the copy makes companions of its own.
+    caster = settings.shadow_caster
+    copied = caster is not None and caster.parent not in (None, obj)
     for prop, (suffix, _) in COMPANIONS.items():
         current = getattr(settings, prop)
-        if current is not None and owns(current) and current.name in bpy.data.objects:
+        if (not copied and current is not None and owns(current)
+                and current.name in bpy.data.objects):
             if current.get(COMPANION) != prop:  # made before the key existed
                 current[COMPANION] = prop
             continue

@@ -12,7 +12,7 @@ from bpy.app.handlers import persistent
 
 from . import bridge
 
-# bpy.data.objects' length at the last depsgraph update: fewer means something was deleted.
+# bpy.data.objects' length at the last depsgraph update: a change may be a deleted ocean.
 OBJECT_COUNT = {"n": 0}
 LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
                 "(the ocean mesh is rebuilt while rendering)")
@@ -42,10 +42,9 @@ def depsgraph_update_post(scene, depsgraph):
     skipped by update_ocean, so this cannot loop."""
     if bridge.RENDERING["active"] or depsgraph.mode == "RENDER":
         return
-    count = len(bpy.data.objects)
-    if count < OBJECT_COUNT["n"]:
-        bridge.remove_orphan_companions()  # an ocean deleted takes its companions with it
-    OBJECT_COUNT["n"] = len(bpy.data.objects)
+    if len(bpy.data.objects) != OBJECT_COUNT["n"]:
+        bridge.remove_orphan_companions()  # a deleted ocean takes its companions with it
+        OBJECT_COUNT["n"] = len(bpy.data.objects)
     oceans = bridge.ocean_objects(scene)
     if not oceans:
         return

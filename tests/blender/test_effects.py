@@ -225,12 +225,27 @@ def test_deleting_an_ocean_deletes_its_companions_only(ocean):
     other = add_ocean()
     mine, theirs = companions(ocean), companions(other)
     names = [c.name for c in mine]
-    bpy.data.objects.remove(ocean)
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj == ocean)
+    assert bpy.ops.object.delete() == {"FINISHED"}  # as the user deletes it
     bpy.context.view_layer.update()
+    assert "Ocean" not in bpy.data.objects
     assert not set(names) & set(bpy.data.objects.keys())
     assert "Ocean Water Body" not in bpy.data.meshes  # its box went with it
     assert all(c.name in bpy.data.objects for c in theirs)
     assert companions(other) == theirs
+
+
+def test_a_duplicated_ocean_gets_companions_of_its_own(ocean):
+    copy = ocean.copy()  # as Shift+D: the settings, so the pointers, are copied
+    copy.data = ocean.data.copy()
+    bpy.context.scene.collection.objects.link(copy)
+    assert companions(copy) == companions(ocean)
+    bpy.context.view_layer.update()
+    mine, theirs = companions(ocean), companions(copy)
+    assert all(c is not None for c in theirs) and not set(mine) & set(theirs)
+    assert theirs[1].parent == copy and theirs[1].data == copy.data  # its own caster
+    assert mine[1].parent == ocean and mine[1].data == ocean.data
 
 
 def test_active_effects_is_read_only(ocean):
