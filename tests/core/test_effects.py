@@ -231,3 +231,14 @@ def test_the_caustic_tile_is_the_caustics_on_a_regular_grid():
     flat = effects.caustic_tile(HeightField(amplitude=0.0), 2.0, (5.0, 7.0), 32.0, 16,
                                 (0.2, 0.1, 0.9), 3.0)
     assert np.allclose(flat, 1.0, atol=1e-5)
+
+
+def test_facts_keys_differ_exactly_when_the_facts_do():
+    box = unit_box((-1, -1, -2), (1, 1, 2))
+    base = facts(objects=[SceneObject("Boat", -2.0, 2.0, True, box)])
+    same = facts(objects=[SceneObject("Boat", -2.0, 2.0, True, box.copy())])
+    assert base.key() == same.key()
+    moved = facts(objects=[SceneObject("Boat", -2.0, 2.0, True, box + (0.0, 1e-6, 0.0))])
+    mirrored = facts(objects=[SceneObject("Boat", -2.0, 2.0, True, box, True)])
+    for other in (moved, mirrored, facts(), facts(camera_height=9.0), facts(sun_elevation=3.0)):
+        assert other.key() != base.key()

@@ -47,6 +47,8 @@ def main(quick=False, only=None):
             world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),
             image=(48, 27) if quick else (96, 54))),
         ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
+        ("scene_update", lambda: blender_bench.scene_update_cost(
+            counts=(0, 200) if quick else (0, 100, 1000), repeats=3 if quick else 7)),
         ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
         ("render", lambda: blender_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),

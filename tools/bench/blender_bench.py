@@ -234,3 +234,40 @@ def effect_render_cost(size=(320, 180), samples=4, repeats=3):
     for row in rows:
         row["seconds"] = side_by_side.get(row["variant"], row["seconds"])
     return rows
+
+
+def scene_update_cost(counts=(0, 100, 1000), repeats=7):
+    """Viewport cost of the scene facts: a depsgraph update after a camera nudge, with our
+    handler and without it, interleaved, in a scene of `count` small objects scattered around
+    the ocean (the effects at AUTO look at every one of them)."""
+    handlers = importlib.import_module(MODULE + ".projgrid_addon.handlers")
+    rows = []
+    rng = np.random.default_rng(3)
+    for count in counts:
+        scene = projected_scene(65)
+        layer = scene.view_layers[0]
+        mesh = bpy.data.meshes.new("triangle")
+        mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+        for x, y, z in rng.uniform((-300, -300, -5), (300, 300, 5), (count, 3)):
+            obj = bpy.data.objects.new("object", mesh)
+            obj.location = (x, y, z)
+            scene.collection.objects.link(obj)
+        layer.update()
+        cam = scene.camera
+        hook = bpy.app.handlers.depsgraph_update_post
+
+        def nudge(ours, cam=cam, layer=layer, hook=hook):
+            if ours != (handlers.depsgraph_update_post in hook):
+                (hook.append if ours else hook.remove)(handlers.depsgraph_update_post)
+            cam.location.x += 1e-3
+            layer.update()
+
+        with bpy.context.temp_override(scene=scene, view_layer=layer):
+            times = interleaved({"ours": lambda: nudge(True), "without": lambda: nudge(False)},
+                                repeats)
+        if handlers.depsgraph_update_post not in hook:
+            hook.append(handlers.depsgraph_update_post)
+        rows.append({"objects": count, "ours_ms": times["ours"] * 1e3,
+                     "without_ms": times["without"] * 1e3})
+        bpy.data.scenes.remove(scene)
+    return rows
