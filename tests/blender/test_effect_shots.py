@@ -28,7 +28,8 @@ def box(name, location, scale, colour):
     obj = bpy.context.active_object
     obj.name, obj.scale = name, scale
     mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
+    if mat.node_tree is None:  # before Blender 5.0 (where use_nodes is deprecated)
+        mat.use_nodes = True
     mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = colour
     obj.data.materials.append(mat)
     return obj
