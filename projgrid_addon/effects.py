@@ -151,8 +151,8 @@ def decide(modes, facts):
         else:
             auto = auto or _auto(facts)
             on, reason = auto[effect]
-        if mode == "ON" and effect == "local_reflections" and _between(facts):
-            reason = f"{reason}, but {_between_text(facts, _between(facts))}"
+        if mode == "ON" and effect == "local_reflections" and (between := _between(facts)):
+            reason = f"{reason}, but {_between_text(facts, between)}"
         decisions[effect] = (on, reason)
     return decisions
 
@@ -277,15 +277,10 @@ def caustic_intensity(surface, sun_direction, depth, ior=1.333):
     c = (yu * hv - hu * yv, hu * xv - xu * hv, xu * yv - yu * xv)
     flux = sun[0] * c[0] + sun[1] * c[1] + sun[2] * c[2]
     length = np.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
-    # Snell's law (Fleck §2.1.2) for the sun ray -L through the unit normal c / |c|.
-    eta = 1.0 / ior
-    cos = flux / length
-    k = 1.0 - eta * eta * (1.0 - cos * cos)
-    along_n = (eta * cos - np.sqrt(k)) / length
-    tz = -eta * sun[2] + along_n * c[2]
+    tx, ty, tz = _refract(sun, c, length, flux / length, 1.0 / ior)
     s = (h + depth) / np.maximum(-tz, 1e-6)
-    qx = x + s * (-eta * sun[0] + along_n * c[0])
-    qy = y + s * (-eta * sun[1] + along_n * c[1])
+    qx = x + s * tx
+    qy = y + s * ty
     area = np.abs(d(qx, 1) * d(qy, 0) - d(qy, 1) * d(qx, 0))
     ratio = np.divide(flux, area * sun[2], out=np.ones_like(flux), where=area > 0.0)
     return ratio.astype(np.float32).ravel()
@@ -314,15 +309,20 @@ def mirror_capture(eye, level, bound, reach):
     return location, (reach, reach, height + max(float(bound), 0.0)), max(height, 1e-3)
 
 
+def _refract(sun, normal, length, cos, eta):
+    """Snell's law (Fleck §2.1.2): the direction, as three components, of the sun's ray -L
+    refracted into the water through the normal `normal` of length `length`, at cos = L.n/|n|
+    (components may be arrays: every vertex at once)."""
+    along_n = (eta * cos - np.sqrt(1.0 - eta * eta * (1.0 - cos * cos))) / length
+    return tuple(-eta * sun[i] + along_n * normal[i] for i in range(3))
+
+
 def refracted_sun(sun_direction, ior=1.333):
-    """Unit direction of the sun's light under flat water (Snell's law, Fleck §2.1.2): downward,
-    bent toward the vertical."""
+    """Unit direction of the sun's light under flat water: downward, bent toward the
+    vertical."""
     sun = np.asarray(sun_direction, dtype=np.float64)
     sun = sun / np.linalg.norm(sun)
-    eta = 1.0 / ior
-    cos = max(float(sun[2]), 0.0)
-    return -eta * sun + (eta * cos - np.sqrt(1.0 - eta * eta * (1.0 - cos * cos))) * np.array(
-        (0.0, 0.0, 1.0))
+    return np.array(_refract(sun, (0.0, 0.0, 1.0), 1.0, max(float(sun[2]), 0.0), 1.0 / ior))
 
 
 def caustic_tile(height_field, time, centre, size, n, sun_direction, depth):

@@ -38,8 +38,8 @@ CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.
 VERSION = 5  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
-# Per-vertex caustic shadow transparency minus CAUSTIC_MEAN, written while caustics or godrays
-# are on (absent, the attribute reads 0: the flat water's shadow).
+# Per-vertex caustic shadow transparency minus CAUSTIC_MEAN, written while caustics are on
+# (absent, the attribute reads 0: the flat water's shadow).
 CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 # The node joining a branch to the water, and the effects that need it; muted while none is on.
 EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Sun Glint": ("sun_glint",),
