@@ -11,7 +11,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
 from ..shaders import water
-from ..shaders.nodes import TAG
+from ..shaders.nodes import TAG, assign
 from . import Camera, HeightField, build_grid, effects, grid_topology, grid_uv
 from .projected_grid import check_resolution
 
@@ -424,13 +424,6 @@ def ensure_companions(obj):
         setattr(settings, prop, companion)
 
 
-def _assign(target, **values):
-    """Set the attributes whose values differ (a write would tag the depsgraph again)."""
-    for name, value in values.items():
-        if not np.allclose(getattr(target, name), value):
-            setattr(target, name, value)
-
-
 def place_companions(obj, cam, level, bound, on, scene, in_use):
     """Show each companion only while an effect needs it (hidden, it costs nothing): the water
     body centred under the camera at the water level and as wide as EEVEE draws volumes, the
@@ -440,16 +433,16 @@ def place_companions(obj, cam, level, bound, on, scene, in_use):
         if companion is None or not owns(companion):
             continue
         hide = not any(on[e] for e in needed_by)
-        _assign(companion, hide_render=hide, hide_viewport=hide)
+        assign(companion, hide_render=hide, hide_viewport=hide)
         if prop == "shadow_caster":
-            _assign(obj, visible_shadow=hide)
+            assign(obj, visible_shadow=hide)
         elif prop == "reflection_probe":
-            _assign(obj, hide_probe_sphere=not hide)
+            assign(obj, hide_probe_sphere=not hide)
         if hide:
             continue
         if prop == "water_body":
             reach = float(scene.eevee.volumetric_end) if hasattr(scene, "eevee") else 100.0
-            _assign(companion, location=(cam.position[0], cam.position[1], level - reach),
+            assign(companion, location=(cam.position[0], cam.position[1], level - reach),
                     scale=(reach,) * 3)
             if companion.data.materials[0] is not None:
                 water.set_effects(companion.data.materials[0].node_tree, in_use,
@@ -457,10 +450,10 @@ def place_companions(obj, cam, level, bound, on, scene, in_use):
         elif prop == "reflection_probe":
             reach = float(np.linalg.norm(cam.corners[4:] - cam.position, axis=-1).max())
             location, half, clip = effects.mirror_capture(cam.position, level, bound, reach)
-            _assign(companion, location=location, scale=half)
+            assign(companion, location=location, scale=half)
             # The parallax volume (scaled by the slab) reaches `reach` upward: the water's
             # reflection vector looks the capture up as if at infinity.
-            _assign(companion.data, clip_start=clip, clip_end=2.0 * reach,
+            assign(companion.data, clip_start=clip, clip_end=2.0 * reach,
                     parallax_distance=reach / half[2])
 
 

@@ -4,6 +4,17 @@ inputs that are sockets and sets the ones that are values, and returns the outpu
 TAG = "projgrid_ocean"  # ID property marking the data this extension made (never the user's)
 
 
+def assign(target, **values):
+    """Set each attribute whose value changes by more than 1e-7 (in any component): every write
+    tags its data-block for a depsgraph update, which runs our handlers again."""
+    for name, value in values.items():
+        current = getattr(target, name)
+        pairs = (zip(current, value, strict=True) if hasattr(current, "__len__")
+                 else ((current, value),))
+        if any(abs(a - b) > 1e-7 for a, b in pairs):
+            setattr(target, name, value)
+
+
 def empty_tree(id_block):
     """The node tree of a new material or world, emptied (nodes are switched on first before
     Blender 5.0; from 5.0 every material and world has them)."""

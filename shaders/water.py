@@ -28,7 +28,7 @@ import bpy
 import numpy as np
 
 from ..projgrid_addon.effects import ABSORPTION, CAUSTIC_MEAN
-from .nodes import TAG, Graph, empty_tree
+from .nodes import TAG, Graph, assign, empty_tree
 
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
@@ -253,10 +253,10 @@ def update_godrays(mat, tile, lookup):
     # for 256 x 256, measured).
     image.pack()
     a, b, c = lookup
-    _set(nodes["Caustic U"].inputs[1], tuple(a))
-    _set(nodes["Caustic V"].inputs[1], tuple(b))
-    _set(nodes["Caustic U Offset"].inputs[1], float(c[0]))
-    _set(nodes["Caustic V Offset"].inputs[1], float(c[1]))
+    assign(nodes["Caustic U"].inputs[1], default_value=tuple(a))
+    assign(nodes["Caustic V"].inputs[1], default_value=tuple(b))
+    assign(nodes["Caustic U Offset"].inputs[1], default_value=float(c[0]))
+    assign(nodes["Caustic V Offset"].inputs[1], default_value=float(c[1]))
 
 
 def material():
@@ -305,17 +305,19 @@ def update_inputs(obj, sun, height_field, shader_octaves, time, effects_on=None)
     inputs = node.inputs
     if sun is not None:
         direction = sun_direction(sun)
-        _set(inputs["Sun Direction"], tuple(direction))
-        _set(inputs["Sun Colour"], (*sun.data.color, 1.0))
-    _set(inputs["Sun Visible"], 1.0 if sun is not None and direction[2] > 0.0 else 0.0)
+        assign(inputs["Sun Direction"], default_value=tuple(direction))
+        assign(inputs["Sun Colour"], default_value=(*sun.data.color, 1.0))
+    visible = sun is not None and direction[2] > 0.0
+    assign(inputs["Sun Visible"], default_value=1.0 if visible else 0.0)
     first, count = shader_octaves
     hf = height_field
-    _set(inputs["Detail First Octave"], float(first))
-    _set(inputs["Detail Scale"], 1.0 / hf.wavelength(first))
-    _set(inputs["Detail Octaves"], float(max(count - 1, 0)))
-    _set(inputs["Detail Roughness"], min(hf.roughness, 1.0))
-    _set(inputs["Detail Height"], hf.amplitude * hf.roughness**first if count else 0.0)
-    _set(inputs["Detail Time"], float(hf.time_coordinate(first, time)))
+    assign(inputs["Detail First Octave"], default_value=float(first))
+    assign(inputs["Detail Scale"], default_value=1.0 / hf.wavelength(first))
+    assign(inputs["Detail Octaves"], default_value=float(max(count - 1, 0)))
+    assign(inputs["Detail Roughness"], default_value=min(hf.roughness, 1.0))
+    assign(inputs["Detail Height"],
+           default_value=hf.amplitude * hf.roughness**first if count else 0.0)
+    assign(inputs["Detail Time"], default_value=float(hf.time_coordinate(first, time)))
 
 
 def set_effects(tree, on, nodes):
@@ -325,14 +327,3 @@ def set_effects(tree, on, nodes):
         mute = not any(on.get(effect, False) for effect in needed_by)
         if node is not None and node.mute != mute:
             node.mute = mute
-
-
-def _set(socket, value):
-    """Write only on change: every write tags the material for a depsgraph update."""
-    current = socket.default_value
-    if hasattr(current, "__len__"):
-        if all(abs(a - b) <= 1e-7 for a, b in zip(current, value, strict=True)):
-            return
-    elif current == value:
-        return
-    socket.default_value = value
