@@ -17,9 +17,16 @@ def stats_lines(obj, scene):
     """The panel's status lines for an ocean (plain strings, so tests can check them)."""
     lines = []
     state = bridge.STATE.get(obj.name_full, {})
+    if state.get("drawn_by"):
+        why = ("linked from a library" if obj.library else "a library override"
+               if obj.override_library else "shown more than once")
+        lines.append(("LINKED", f"Drawn by our local {state['drawn_by']!r} ({why})"))
+        state = {**state, **bridge.STATE.get(state["drawn_by"], {})}
     if state.get("message"):
         lines.append(("ERROR", f"Not built: {state['message']}"))
-    elif state:
+    elif state.get("hidden"):
+        lines.append(("HIDE_ON", "Hidden: not rebuilt while it does not show"))
+    elif "vertices" in state:
         first, count = state.get("shader_octaves", (0, 0))
         grid = state.get("grid")
         efficiency = grid.efficiency if grid is not None else 0.0  # computed on first draw
@@ -29,8 +36,11 @@ def stats_lines(obj, scene):
             ("TIME", f"Last rebuild: {state['ms']:.2f} ms"),
             ("SHADING_TEXTURE", f"Octaves in the shader: {count} (from {first})"),
         ]
+    if state.get("warning"):
+        lines.append(("ERROR", f"Flat: {state['warning']}"))
     if not scene.render.use_lock_interface:
-        lines.append(("LOCKED", "Lock Interface is off: it is switched on at the next render"))
+        lines.append(("LOCKED", "Lock Interface is off: renders need it (Render > Lock "
+                      "Interface), since the ocean is rebuilt while rendering"))
     return lines
 
 

@@ -1,13 +1,21 @@
 """Projected-grid ocean core (Johanson 2004), NumPy only: no bpy is imported here."""
 
+from . import memory
 from .camera import Camera, look_at, orthographic, perspective
 from .displaceable_volume import bound_planes, visible_volume_points
 from .height_field import HeightField, NoiseTiles, octave_weights
-from .projected_grid import GridResult, build_grid, grid_topology, grid_uv, snapped_origin
+from .projected_grid import (
+    GridResult,
+    build_grid,
+    corner_uv,
+    grid_topology,
+    grid_uv,
+    snapped_origin,
+)
 from .projector import Projector, aim_projector
 
 __all__ = [
-    "Camera", "GridResult", "HeightField", "NoiseTiles", "Projector", "aim_projector",
-    "bound_planes", "build_grid", "grid_topology", "grid_uv", "look_at", "octave_weights",
+    "Camera", "GridResult", "corner_uv", "HeightField", "NoiseTiles", "Projector", "aim_projector",
+    "bound_planes", "build_grid", "grid_topology", "grid_uv", "look_at", "memory", "octave_weights",
     "orthographic", "perspective", "snapped_origin", "visible_volume_points",
 ]

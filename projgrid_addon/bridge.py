@@ -5,6 +5,7 @@ and writes our own ocean mesh and material; it never writes anything of the user
 """
 
 import time
+from dataclasses import dataclass
 
 import bpy
 import numpy as np
@@ -12,24 +13,31 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, Po
 
 from ..shaders import water
 from ..shaders.nodes import TAG, assign
-from . import Camera, HeightField, build_grid, effects, grid_topology, grid_uv
+from . import Camera, HeightField, build_grid, corner_uv, effects, grid_topology, memory
+from .camera import blender_projection, rigid_view
 from .projected_grid import check_resolution
 
 UV_MAP = "ProjectorUV"
+OVERRIDABLE = {"LIBRARY_OVERRIDABLE"}  # a library override of an ocean keeps its own settings
+# ID property of a stand-in: the appearance it draws (see `Appearance.key`).
+STAND_IN = "projgrid_stand_in"
 
-# Per-object runtime state, keyed by the object's name_full: stats for the panel, the message of
-# the last refused rebuild, and the signature of the last build (to skip identical rebuilds).
+# Per-surface runtime state, keyed by the surface object's name_full (the ocean, or the stand-in
+# drawing it): stats for the panel, the message of the last refused rebuild, a warning about the
+# last built one, and the signature of the last build (to skip identical rebuilds).
 STATE = {}
 # Set by the render handlers; the live preview steps aside while it is true.
 RENDERING = {"active": False}
 # The 3D view the live preview follows: {"view": 4x4, "proj": 4x4} or empty.
 LIVE_VIEW = {}
+# Appearance key -> name_full of the stand-in drawing it (a cache, checked on every use).
+STAND_INS = {}
 
 
 def _settings_changed(self, context):
     """Rebuild at once with the values just set (the evaluated copy is updated only later)."""
     obj = self.id_data
-    if context.scene is not None and obj.name in context.scene.objects:
+    if context.scene is not None and obj.projgrid.is_ocean and not RENDERING["active"]:
         update_ocean(obj, context.scene, context.evaluated_depsgraph_get(), settings=self)
 
 
@@ -37,6 +45,7 @@ def _mode(effect, description):
     return EnumProperty(
         name=effect.replace("_", " ").title(), default="AUTO", update=_settings_changed,
         description=description,
+        override=OVERRIDABLE,
         items=(("AUTO", "Auto", "On when the scene calls for it, decided each frame"),
                ("ON", "On", "Always on"), ("OFF", "Off", "Always off: costs nothing")))
 
@@ -49,12 +58,13 @@ def _active_effects(self):
 
 def _int(name, description, default, lo, hi, soft_hi=None):
     return IntProperty(name=name, description=description, default=default, min=lo, max=hi,
-                       soft_max=soft_hi or hi, update=_settings_changed)
+                       soft_max=soft_hi or hi, update=_settings_changed, override=OVERRIDABLE)
 
 
 def _float(name, description, default, lo, hi, soft_hi, unit="NONE", **kw):
     return FloatProperty(name=name, description=description, default=default, min=lo, max=hi,
-                         soft_max=soft_hi, unit=unit, update=_settings_changed, **kw)
+                         soft_max=soft_hi, unit=unit, update=_settings_changed,
+                         override=OVERRIDABLE, **kw)
 
 
 class ProjectedGridSettings(bpy.types.PropertyGroup):
@@ -82,7 +92,7 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     projector_elevation: _float("Projector Elevation", "Extra height of the projector above "
                                 "the waves (thesis §2.5)", 0.0, 0.0, 1e4, 100.0, "LENGTH")
     noise: EnumProperty(
-        name="Noise", default="FAST", update=_settings_changed,
+        name="Noise", default="FAST", update=_settings_changed, override=OVERRIDABLE,
         description="How heights are evaluated (docs/benchmarks.md has the cost and the error)",
         items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
                ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
@@ -106,6 +116,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     reflection_probe: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                       description="Our sphere probe capturing the mirror image "
                                       "(local reflections)")
+    source: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                            description="On a stand-in of ours: the ocean whose sea it draws "
+                            "(a linked, overridden or instanced ocean we may not write)")
     active_effects: EnumProperty(
         name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
         description="The effects on for the current frame (read-only)",
@@ -122,11 +135,183 @@ def height_field(settings):
 
 
 def ocean_objects(scene):
+    """The oceans placed in `scene` itself."""
     return [obj for obj in scene.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
+
+
+def all_oceans():
+    """Every ocean of the file, linked ones included."""
+    return [obj for obj in bpy.data.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
 
 
 def owns(id_block):
     return id_block is not None and bool(id_block.get(TAG))
+
+
+def local(id_block):
+    """Data of this file: neither linked from a library nor a library override."""
+    return id_block.library is None and id_block.override_library is None
+
+
+def writable(obj):
+    """Whether the ocean's own mesh is ours to write: a local object with a local mesh (a linked
+    ocean's or a library override's mesh belongs to its library, which we never write)."""
+    return local(obj) and obj.data is not None and local(obj.data)
+
+
+@dataclass
+class Appearance:
+    """One place an ocean shows in a scene: in the scene or a background set of it (`chain`
+    empty), or inside collection instances (`chain`: (instancer, instanced collection) pairs,
+    outermost first)."""
+
+    ocean: object
+    chain: tuple = ()
+    count: int = 1  # the ocean's appearances in the scene
+
+    @property
+    def key(self):
+        """What a stand-in of ours draws: the ocean's and the instancers' full names."""
+        return "|".join(o.name_full for o in (self.ocean, *(i for i, _ in self.chain)))
+
+    @property
+    def needs_stand_in(self):
+        """Drawn by a stand-in of ours: the ocean's mesh is not ours to write, or it shows more
+        than once (one mesh cannot be right in two places)."""
+        return self.count > 1 or not writable(self.ocean)
+
+    @property
+    def objects(self):
+        """The ocean and its instancers: the objects whose visibility decides whether it shows."""
+        return (self.ocean, *(i for i, _ in self.chain))
+
+    def world(self, depsgraph):
+        """The ocean's evaluated world matrix where it shows (float64)."""
+        m = np.eye(4)
+        for instancer, collection in self.chain:
+            offset = np.eye(4)
+            offset[:3, 3] = -np.array(collection.instance_offset, dtype=np.float64)
+            m = m @ np.array(instancer.evaluated_get(depsgraph).matrix_world,
+                             dtype=np.float64) @ offset
+        return m @ np.array(self.ocean.evaluated_get(depsgraph).matrix_world, dtype=np.float64)
+
+    def shown(self, depsgraph, render):
+        """Whether this evaluation draws it: each object on the way is in the depsgraph (so
+        visible in renders or viewports and not in an excluded collection), and in the viewport
+        the outermost one is not hidden in the view layer."""
+        if not all(o.evaluated_get(depsgraph).is_evaluated for o in self.objects):
+            return False
+        if render:
+            return True
+        try:
+            return not self.objects[-1 if not self.chain else 1].hide_get()
+        except RuntimeError:  # not in this view layer (a background set's object)
+            return True
+
+
+def _placements(obj, scenes, parents, depth=0):
+    """The instancer chains through which `obj` shows in `scenes` (the empty chain: directly)."""
+    chains = []
+    users = obj.users_scene
+    if any(s in users for s in scenes):
+        chains.append(())
+    if depth >= 8:  # instances nested deeper than this are left out
+        return chains
+    holders, todo = [], list(obj.users_collection)
+    while todo:
+        c = todo.pop()
+        if c not in holders:
+            holders.append(c)
+            todo.extend(parents.get(c.as_pointer(), ()))
+    for collection in holders:
+        for instancer in collection.users_dupli_group:
+            for outer in _placements(instancer, scenes, parents, depth + 1):
+                chains.append(outer + ((instancer, collection),))
+    return chains
+
+
+def appearances(scene, only=None):
+    """Every place an ocean (or only `only`) shows in `scene`, its background sets included."""
+    oceans = all_oceans() if only is None else [only]
+    if not oceans:
+        return []
+    scenes = [scene]
+    while scenes[-1].background_set is not None and len(scenes) < 16:
+        if scenes[-1].background_set in scenes:
+            break
+        scenes.append(scenes[-1].background_set)
+    parents = {}
+    for collection in bpy.data.collections:
+        for child in collection.children:
+            parents.setdefault(child.as_pointer(), []).append(collection)
+    found = []
+    for ocean in oceans:
+        chains = _placements(ocean, scenes, parents)
+        found += [Appearance(ocean, chain, len(chains)) for chain in chains]
+    return found
+
+
+def _stand_in_collection(app, scene):
+    """Where a new stand-in goes: the first local collection holding the outermost object, so
+    the stand-in shares its view-layer exclusion, holdout and indirect-only flags."""
+    top = app.objects[1] if app.chain else app.ocean
+    return next((c for c in top.users_collection if local(c)), scene.collection)
+
+
+def stand_in(app, scene, create):
+    """Our local object drawing `app` (made if missing and `create`), or None."""
+    key = app.key
+    obj = bpy.data.objects.get(STAND_INS.get(key, ""))
+    if obj is None or obj.get(STAND_IN) != key:
+        obj = next((o for o in bpy.data.objects if o.get(STAND_IN) == key and owns(o)), None)
+    if obj is None and create:
+        name = f"{app.ocean.name} Sea"
+        mesh = bpy.data.meshes.new(name)
+        mesh[TAG] = True
+        mesh.materials.append(water.material())
+        obj = bpy.data.objects.new(name, mesh)
+        obj[TAG] = True
+        obj[STAND_IN] = key
+        obj.projgrid.source = app.ocean
+        obj.hide_select = True
+        if hasattr(obj, "cycles"):
+            obj.cycles.use_deform_motion = False
+        _stand_in_collection(app, scene).objects.link(obj)
+        ensure_companions(obj)
+    if obj is not None:
+        STAND_INS[key] = obj.name_full
+    return obj
+
+
+def surface_for(app, scene, create):
+    """The local object of ours whose mesh draws `app`: the ocean itself when we may write it
+    and it shows once, else a stand-in of ours (None if it is missing and may not be made)."""
+    if not app.needs_stand_in:
+        return app.ocean
+    return stand_in(app, scene, create)
+
+
+def remove_stale_stand_ins(scene, apps, everywhere=False):
+    """Delete the stand-ins whose appearance in `scene` is gone or no longer needs one (`apps`:
+    the scene's appearances), with their companions: those this session made, or `everywhere`
+    in the scene (after a load or a deletion)."""
+    needed = {a.key for a in apps if a.needs_stand_in}
+    if everywhere:
+        candidates = [o for o in scene.objects if o.get(STAND_IN)]
+    else:
+        candidates = [o for o in map(bpy.data.objects.get, list(STAND_INS.values()))
+                      if o is not None]
+    stale = [o for o in candidates if owns(o) and o.get(STAND_IN) and scene in o.users_scene
+             and (o.projgrid.source is None or o[STAND_IN] not in needed)]
+    for obj in stale:
+        STATE.pop(obj.name_full, None)
+        STAND_INS.pop(obj[STAND_IN], None)
+        for prop in COMPANIONS:
+            companion = getattr(obj.projgrid, prop)
+            if companion is not None and owns(companion) and companion != obj:
+                _remove_object(companion)
+        _remove_object(obj)
+    return len(stale)
 
 
 def render_size(scene):
@@ -136,19 +321,44 @@ def render_size(scene):
             r.pixel_aspect_x, r.pixel_aspect_y)
 
 
-def camera_for(scene, depsgraph, render):
-    """(view, proj) of the scene camera as rendered (ValueError with a user message if none)."""
-    cam = scene.camera
+def scene_camera(scene):
+    """The camera this frame renders with: the timeline markers' camera switch, which Blender
+    applies to `scene.camera` only after frame_change_post (BKE_scene_camera_switch_find)."""
+    markers = [(m.frame, m.camera) for m in scene.timeline_markers
+               if m.camera is not None and not m.camera.hide_render]
+    if not markers:
+        return scene.camera
+    past = [m for m in markers if m[0] <= scene.frame_current]
+    if past:
+        return max(past, key=lambda m: m[0])[1]
+    return min(markers, key=lambda m: m[0])[1]
+
+
+def camera_for(scene, depsgraph, camera=None):
+    """(view, proj) float64 of the camera rendering this frame (ValueError with a user message
+    if none or not usable), built from the camera's own settings: Blender's float32 matrix
+    loses the far corners for clip ranges wider than about 1e7 (camera.blender_projection)."""
+    cam = camera or scene_camera(scene)
     if cam is None:
         raise ValueError("the scene has no camera (set one, or use Live Preview)")
     cam_eval = cam.evaluated_get(depsgraph)
-    if cam_eval.type == "CAMERA" and cam_eval.data.type == "PANO":
+    x, y, sx, sy = render_size(scene)
+    view = rigid_view(cam_eval.matrix_world)
+    if cam_eval.type != "CAMERA":  # a lamp or empty as the camera: Blender's defaults
+        proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
+        return view, np.array(proj, dtype=np.float64)
+    data = cam_eval.data
+    if data.type == "PANO":
         raise ValueError(f"camera {cam.name!r} is panoramic; the projected grid needs a "
                          "perspective or orthographic camera")
-    x, y, sx, sy = render_size(scene)
-    proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
-    view = cam_eval.matrix_world.normalized().inverted()
-    return np.array(view, dtype=np.float64), np.array(proj, dtype=np.float64)
+    try:
+        proj = blender_projection(data.type == "ORTHO", data.lens, data.ortho_scale,
+                                  (data.sensor_width, data.sensor_height), data.sensor_fit,
+                                  (data.shift_x, data.shift_y),
+                                  (data.clip_start, data.clip_end), (x, y), (sx, sy))
+    except ValueError as e:
+        raise ValueError(f"camera {cam.name!r}: {e}") from None
+    return view, proj
 
 
 def scene_time(scene):
@@ -158,22 +368,77 @@ def scene_time(scene):
 
 
 def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
-    """Rebuild `obj`'s grid for the current frame; returns the refusal message or None.
+    """Rebuild the sea of ocean `obj` wherever it shows in `scene` (see `update_appearance`);
+    returns the first refusal message or None."""
+    messages = [update_appearance(app, scene, depsgraph, render, view, settings)
+                for app in appearances(scene, only=obj)]
+    return next((m for m in messages if m), None)
+
+
+def ocean_axes(world):
+    """The inverse of an ocean's linear transform (ValueError saying what to change if none)."""
+    linear = world[:3, :3]
+    if not np.all(np.isfinite(world)):
+        raise ValueError("the ocean object's transform is not finite: reset its location, "
+                         "rotation and scale")
+    lengths = np.linalg.norm(linear, axis=0)
+    zero = [axis for axis, length in zip("XYZ", lengths, strict=True) if length == 0.0]
+    if zero or np.linalg.cond(linear) > 1e12:
+        axes = "/".join(zero) or "one axis"
+        raise ValueError(f"the ocean object's scale is zero on {axes}: give it a non-zero scale "
+                         "(the sea ignores its scale and rotation, but needs them invertible)")
+    return np.linalg.inv(linear)
+
+
+def flat_warning(hf, result, settings):
+    """Why a built sea has no wave in its geometry, and what to change (None if it has)."""
+    if not result.visible or hf.amplitude == 0.0 or hf.octaves == 0 or result.lod.max() > 0.0:
+        return None
+    spacing = hf.wave_scale / 2.0 ** (float(result.lod.max()) + 1.0)
+    text = (f"no wave is in the geometry: the grid's vertices lie {spacing:.3g} m apart or "
+            f"more, beyond the longest wave ({hf.wave_scale:.3g} m); ")
+    if settings.projector_elevation > hf.bound:
+        return text + (f"Projector Elevation ({settings.projector_elevation:.3g} m) lifts the "
+                       "projector far above the waves: lower it")
+    return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {hf.bound:.3g} m high, "
+                   "so the projector sits that high: lower Amplitude or raise Wave Scale")
+
+
+def update_appearance(app, scene, depsgraph, render=None, view=None, settings=None):
+    """Rebuild the grid drawing `app` for the current frame; returns the refusal message or None.
 
     `render` defaults to whether `depsgraph` is a render depsgraph: renders use the render camera
     and resolution, the viewport the live preview's view if one runs, else the scene camera.
-    Settings are read from the evaluated object, so animated values are honoured in renders,
-    unless `settings` are given (a settings edit passes the values just set).
+    Settings are read from the evaluated ocean, so animated values are honoured in renders,
+    unless `settings` are given (a settings edit passes the values just set). The mesh written
+    is ours: the ocean's own, or a stand-in's for an ocean we may not write or that shows more
+    than once (`surface_for`).
     """
-    state = STATE.setdefault(obj.name_full, {})
     if render is None:
         render = depsgraph.mode == "RENDER"
-    if not owns(obj.data):
+    ocean = app.ocean
+    surface = surface_for(app, scene, create=not render and not RENDERING["active"])
+    STATE.setdefault(ocean.name_full, {})["drawn_by"] = (
+        None if surface is ocean else STAND_INS.get(app.key))
+    if surface is not ocean and writable(ocean) and owns(ocean.data):
+        _empty(ocean.data)  # its own mesh shows in every instance: the stand-ins draw it
+    if surface is None:
+        return _refuse(STATE.setdefault(ocean.name_full, {}), None,
+                       "its stand-in is made at the next viewport update or render start")
+    state = STATE.setdefault(surface.name_full, {})
+    if not owns(surface.data):
         return _refuse(state, None, "the ocean's mesh was replaced; it is left untouched "
                        "(Add Ocean makes a new one)")
-    mesh = obj.data
-    obj_eval = obj.evaluated_get(depsgraph)
-    settings = settings or obj_eval.projgrid
+    if surface.data.is_editmode:
+        return _refuse(state, None, f"{surface.name!r} is in Edit Mode: the grid is rebuilt "
+                       "when you leave it")
+    mesh = surface.data
+    shown = app.shown(depsgraph, render)
+    hidden = follow_visibility(surface, app, shown, render)
+    if not shown:
+        state.update(key=None, message=None, warning=None, hidden=True)
+        return None
+    settings = settings or ocean.evaluated_get(depsgraph).projgrid
     try:
         if render:
             res = (settings.render_resolution_x, settings.render_resolution_y)
@@ -182,42 +447,94 @@ def update_ocean(obj, scene, depsgraph, render=None, view=None, settings=None):
         res = check_resolution(res)
         if view is None and not render and LIVE_VIEW:
             view = (LIVE_VIEW["view"], LIVE_VIEW["proj"])
-        camera = view if view is not None else camera_for(scene, depsgraph, render)
-        world = np.array(obj_eval.matrix_world, dtype=np.float64)
-        linear = world[:3, :3]
-        if abs(np.linalg.det(linear)) < 1e-12:
-            raise ValueError("the ocean object's scale is zero")
+        camera = view if view is not None else camera_for(scene, depsgraph)
+        world = app.world(depsgraph)
+        to_local = ocean_axes(world)
+        if surface is not ocean:  # the stand-in sits where the ocean shows, unrotated
+            assign(surface, location=tuple(world[:3, 3]), rotation_euler=(0.0, 0.0, 0.0),
+                   scale=(1.0, 1.0, 1.0))
+            to_local = np.eye(3)
         t = scene_time(scene)
         hf = height_field(settings)
         cam = Camera(*camera)
         sun = water.sun_lamp(scene, depsgraph)  # once per frame: the facts and the glint
-        facts = scene_facts(obj, scene, sun, cam, world[2, 3], hf, settings, render)
+        facts = scene_facts(surface, scene, sun, cam, world[2, 3], hf, settings, render)
         key = (render, res, np.asarray(camera[0]).tobytes(), np.asarray(camera[1]).tobytes(),
                world.tobytes(), t, tuple(getattr(settings, p) for p in SETTINGS),
                mesh.session_uid, facts.key())
         if key == state.get("key"):
             return None
+        memory.check_grid(res, len(mesh.vertices) != res[0] * res[1],
+                          "render" if render else "viewport")
         start = time.perf_counter()
         result = build_grid(cam, hf, level=world[2, 3], time=t, resolution=res,
                             projector_elevation=settings.projector_elevation,
                             origin=world[:3, 3])
         decisions = effects.decide({e: getattr(settings, e) for e in effects.EFFECTS}, facts)
         on = {e: d[0] for e, d in decisions.items()}
-        write_mesh(mesh, result, np.linalg.inv(linear))
-        write_foam(mesh, result, hf, settings, t, on, facts, world[2, 3])
-        write_caustics(mesh, result, facts, on)
-        write_godrays(obj, hf, t, cam, world[2, 3], facts, on)
     except ValueError as e:
         return _refuse(state, mesh, str(e))
-    state.update(key=key, message=None, vertices=len(result.positions), grid=result,
+    except MemoryError:
+        return _refuse(state, mesh, f"out of memory building the {res[0]}x{res[1]} grid: lower "
+                       "the grid resolution")
+    try:
+        write_mesh(mesh, result, to_local)
+        write_foam(mesh, result, hf, settings, t, on, facts, world[2, 3])
+        write_caustics(mesh, result, facts, on)
+        write_godrays(surface, hf, t, cam, world[2, 3], facts, on)
+    except (MemoryError, RuntimeError) as e:
+        kind = "out of memory" if isinstance(e, MemoryError) else str(e)
+        return _refuse(state, mesh, f"writing the {res[0]}x{res[1]} grid failed ({kind}): lower "
+                       "the grid resolution")
+    state.update(key=key, message=None, vertices=len(result.positions),
+                 grid=result.without_surface(),
                  ms=(time.perf_counter() - start) * 1e3, effects=decisions,
-                 shader_octaves=result.shader_octaves, resolution=res, render=render)
+                 shader_octaves=result.shader_octaves, resolution=res, render=render,
+                 warning=flat_warning(hf, result, settings), hidden=False)
     in_use = effects_in_use()
-    water.update_inputs(obj, sun, hf, result.shader_octaves, t, in_use)
+    water.update_inputs(surface, sun, hf, result.shader_octaves, t, in_use)
     if not render and not RENDERING["active"]:
-        ensure_companions(obj)
-    place_companions(obj, cam, world[2, 3], hf.bound, on, scene, in_use)
+        ensure_companions(surface)
+        own_material(surface)
+    place_companions(surface, cam, world[2, 3], hf.bound, on, scene, in_use, hidden)
     return None
+
+
+def follow_visibility(surface, app, shown, render):
+    """A stand-in and the companions follow their ocean where it shows: hidden with it (in
+    renders by the render's own evaluation, in the viewport by the objects' flags), and a
+    holdout with it; returns (hidden in renders, hidden in the viewport). The ocean's own flags
+    are the user's and are never written. Companions share the surface's collections, so they
+    also share its view-layer exclusion and its collections' holdout and indirect-only."""
+    hidden_render = any(o.hide_render for o in app.objects)
+    hidden_viewport = any(o.hide_viewport for o in app.objects)
+    if render:
+        hidden_render = hidden_render or not shown
+    holdout = any(o.is_holdout for o in app.objects)
+    ours = [surface] if surface is not app.ocean else []
+    ours += [c for c in (getattr(surface.projgrid, p) for p in COMPANIONS)
+             if c is not None and owns(c) and c != surface]
+    hidden_viewport = hidden_viewport or (not render and not shown)
+    for obj in ours:
+        assign(obj, is_holdout=holdout)
+        if obj is surface:
+            assign(obj, hide_render=hidden_render, hide_viewport=hidden_viewport)
+        elif not shown or hidden_render or hidden_viewport:
+            assign(obj, hide_render=hidden_render or not shown,
+                   hide_viewport=hidden_viewport or not shown)
+        if obj is not surface and set(obj.users_collection) != set(surface.users_collection):
+            _link_like(obj, surface)
+    return hidden_render, hidden_viewport
+
+
+def _link_like(obj, model):
+    """Put our `obj` in exactly the collections `model` is in."""
+    for collection in model.users_collection:
+        if collection not in obj.users_collection and local(collection):
+            collection.objects.link(obj)
+    for collection in obj.users_collection:
+        if collection not in model.users_collection:
+            collection.objects.unlink(obj)
 
 
 SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
@@ -371,19 +688,33 @@ def _new_companion(obj, prop, name):
 COMPANION = "projgrid_companion"  # ID property naming a companion's setting on its ocean
 
 
+def own_material(surface):
+    """The surface's water material is its own (water.own_material)."""
+    water.own_material(surface.data)
+
+
+def _remove_object(obj):
+    """Delete our object, and its data when it is ours and nothing else uses it."""
+    data, obj_type = obj.data, obj.type
+    bpy.data.objects.remove(obj)
+    if data is not None and owns(data) and data.users == 0:
+        kind = bpy.data.lightprobes if obj_type == "LIGHT_PROBE" else bpy.data.meshes
+        kind.remove(data)
+
+
 def remove_orphan_companions():
-    """Delete our companions no ocean points to any more (its ocean was deleted), with their
-    data when nothing else uses it; returns how many."""
-    kept = {getattr(o.projgrid, prop) for o in bpy.data.objects if o.projgrid.is_ocean
-            for prop in COMPANIONS}
+    """Delete our stand-ins whose ocean was deleted, then our companions no ocean or stand-in
+    points to any more, with their data when nothing else uses it; returns how many."""
+    gone = [o for o in bpy.data.objects
+            if o.get(STAND_IN) and owns(o) and o.projgrid.source is None]
+    for obj in gone:
+        _remove_object(obj)
+    kept = {getattr(o.projgrid, prop) for o in bpy.data.objects
+            if o.projgrid.is_ocean or o.get(STAND_IN) for prop in COMPANIONS}
     orphans = [o for o in bpy.data.objects if o.get(COMPANION) and owns(o) and o not in kept]
     for obj in orphans:
-        data, obj_type = obj.data, obj.type
-        bpy.data.objects.remove(obj)
-        if data is not None and owns(data) and data.users == 0:
-            kind = bpy.data.lightprobes if obj_type == "LIGHT_PROBE" else bpy.data.meshes
-            kind.remove(data)
-    return len(orphans)
+        _remove_object(obj)
+    return len(gone) + len(orphans)
 
 
 def ensure_companions(obj):
@@ -424,16 +755,17 @@ def ensure_companions(obj):
         setattr(settings, prop, companion)
 
 
-def place_companions(obj, cam, level, bound, on, scene, in_use):
-    """Show each companion only while an effect needs it (hidden, it costs nothing): the water
-    body centred under the camera at the water level and as wide as EEVEE draws volumes, the
-    reflection probe at the camera mirrored in the water, reaching as far as the camera sees."""
+def place_companions(obj, cam, level, bound, on, scene, in_use, hidden=(False, False)):
+    """Show each companion only while an effect needs it (hidden, it costs nothing) and its
+    ocean is not `hidden` (in renders, in the viewport): the water body centred under the
+    camera at the water level and as wide as EEVEE draws volumes, the reflection probe at the
+    camera mirrored in the water, reaching as far as the camera sees."""
     for prop, (_, needed_by) in COMPANIONS.items():
         companion = getattr(obj.projgrid, prop)
         if companion is None or not owns(companion):
             continue
         hide = not any(on[e] for e in needed_by)
-        assign(companion, hide_render=hide, hide_viewport=hide)
+        assign(companion, hide_render=hide or hidden[0], hide_viewport=hide or hidden[1])
         if prop == "shadow_caster":
             assign(obj, visible_shadow=hide)
         elif prop == "reflection_probe":
@@ -463,7 +795,7 @@ def effects_in_use():
     on = dict.fromkeys(effects.EFFECTS, False)
     for name, state in STATE.items():
         obj = bpy.data.objects.get(name)
-        if obj is None or not obj.projgrid.is_ocean:
+        if obj is None or not (obj.projgrid.is_ocean or obj.get(STAND_IN)):
             continue
         for effect, (active, _) in (state.get("effects") or {}).items():
             on[effect] = on[effect] or active
@@ -472,25 +804,48 @@ def effects_in_use():
 
 def _refuse(state, mesh, message):
     """Record why no grid was built; our mesh (never the user's) is emptied, not left stale."""
-    state.update(key=None, message=message, vertices=0, grid=None, ms=0.0, effects=None)
-    if mesh is not None and len(mesh.vertices):
-        mesh.clear_geometry()
+    state.update(key=None, message=message, vertices=0, grid=None, ms=0.0, effects=None,
+                 warning=None)
+    if mesh is not None:
+        _empty(mesh)
     return message
 
 
-def set_topology(mesh, nx, ny):
-    """Replace the mesh's geometry by an nx x ny grid of quads (built once per resolution)."""
+def empty_for_save(obj):
+    """Our surface's mesh emptied and its companions hidden, as a file is saved."""
+    _empty(obj.data)
+    STATE.get(obj.name_full, {})["key"] = None
+    for prop in COMPANIONS:
+        companion = getattr(obj.projgrid, prop)
+        if companion is not None and owns(companion) and local(companion):
+            assign(companion, hide_render=True, hide_viewport=True)
+
+
+def _empty(mesh):
+    if len(mesh.vertices) or len(mesh.polygons):
+        mesh.clear_geometry()
+        mesh.update()
+
+
+def set_topology(mesh, nx, ny, flipped=False):
+    """Replace the mesh's geometry by an nx x ny grid of quads, counter-clockwise seen from
+    above in the mesh's own space, or clockwise if `flipped` (an ocean object mirrored by a
+    negative scale, so its faces are counter-clockwise, facing up, in the world)."""
     quads = grid_topology(nx, ny)
+    if flipped:
+        quads = np.ascontiguousarray(quads[:, ::-1])
+    faces = len(quads)
     mesh.clear_geometry()
     mesh.vertices.add(nx * ny)
     mesh.loops.add(quads.size)
-    mesh.polygons.add(len(quads))
+    mesh.polygons.add(faces)
     mesh.loops.foreach_set("vertex_index", quads.ravel())
-    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
-    mesh.polygons.foreach_set("use_smooth", np.ones(len(quads), dtype=bool))
+    del quads
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 4 * faces, 4, dtype=np.int32))
+    mesh.polygons.foreach_set("use_smooth", np.ones(faces, dtype=bool))
     mesh.update(calc_edges=True)
     uv = mesh.uv_layers.new(name=UV_MAP)
-    uv.data.foreach_set("uv", grid_uv(nx, ny)[quads.ravel()].ravel())
+    uv.data.foreach_set("uv", corner_uv(nx, ny, flipped).ravel())
     if water.LOD_ATTRIBUTE not in mesh.attributes:
         mesh.attributes.new(water.LOD_ATTRIBUTE, "FLOAT", "POINT")
 
@@ -503,8 +858,14 @@ def write_mesh(mesh, result, to_local):
             mesh.update()
         return
     nx, ny = result.resolution
-    if len(mesh.vertices) != nx * ny or len(mesh.polygons) != (nx - 1) * (ny - 1):
-        set_topology(mesh, nx, ny)
+    flipped = np.linalg.det(to_local) < 0.0
+    if (len(mesh.vertices) != nx * ny or len(mesh.polygons) != (nx - 1) * (ny - 1)
+            or (mesh.loops[1].vertex_index != 1) != flipped):
+        try:
+            set_topology(mesh, nx, ny, flipped)
+        except BaseException:
+            _empty(mesh)  # never a half-built mesh
+            raise
     positions = result.positions
     if not np.allclose(to_local, np.eye(3), rtol=0.0, atol=0.0):
         positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
@@ -521,7 +882,7 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(clas
 
 def register():
     _register_classes()
-    bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings)
+    bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings, override=OVERRIDABLE)
 
 
 def unregister():

@@ -9,7 +9,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .validation import matrix4
+from .validation import finite, matrix4, positive
 
 # Frustum corners in NDC; bit 0 of the index is x, bit 1 is y, bit 2 is z (near = 0, far = 1).
 NDC_CORNERS = np.array(
@@ -114,6 +114,74 @@ def perspective(fov_y, aspect, near, far, shift=(0.0, 0.0)):
     m[2, 3] = -2.0 * far * near / (far - near)
     m[3, 2] = -1.0
     return m
+
+
+SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")
+
+
+def blender_projection(orthographic_camera, lens, ortho_scale, sensor, sensor_fit, shift, clip,
+                       size, pixel_aspect):
+    """Blender's camera projection (BKE_camera_params_compute_viewplane and _compute_matrix) in
+    float64, from the camera's own settings.
+
+    `Object.calc_matrix_camera` returns the same matrix in float32, whose depth terms round off
+    once clip_end / clip_start passes about 1e7: the frustum's far corners become infinite. Here
+    the view plane is taken at unit distance, so no term mixes clip_start into the lens.
+    `lens` and `sensor` (width, height) are in millimetres, `size` the render size in pixels,
+    `pixel_aspect` (x, y); a ValueError names the setting that is out of range.
+    """
+    near, far = (finite("clip", c) for c in clip)
+    if not 0.0 < near < far:
+        raise ValueError(f"clip: the camera's clip start ({near:g}) must be above 0 and below "
+                         f"its clip end ({far:g})")
+    winx, winy = (positive("render size", s) for s in size)
+    aspx, aspy = (positive("pixel aspect", a) for a in pixel_aspect)
+    if sensor_fit not in SENSOR_FITS:
+        raise ValueError(f"sensor fit: must be one of {SENSOR_FITS}, got {sensor_fit!r}")
+    ycor = aspy / aspx
+    # AUTO fits the sensor width to the larger side of the frame.
+    width = sensor[1] if sensor_fit == "VERTICAL" else sensor[0]
+    if sensor_fit == "AUTO":
+        sensor_fit = "HORIZONTAL" if aspx * winx >= aspy * winy else "VERTICAL"
+    viewfac = winx if sensor_fit == "HORIZONTAL" else ycor * winy
+    if orthographic_camera:
+        pixel = positive("orthographic scale", ortho_scale) / viewfac
+    else:
+        pixel = positive("sensor size", width) / positive("focal length", lens) / viewfac
+    dx, dy = (finite("shift", s) * viewfac for s in shift)
+    left, right = pixel * (dx - 0.5 * winx), pixel * (dx + 0.5 * winx)
+    bottom, top = pixel * (dy - 0.5 * ycor * winy), pixel * (dy + 0.5 * ycor * winy)
+    m = np.zeros((4, 4))
+    m[0, 0], m[1, 1] = 2.0 / (right - left), 2.0 / (top - bottom)
+    if orthographic_camera:
+        m[0, 3] = -(right + left) / (right - left)
+        m[1, 3] = -(top + bottom) / (top - bottom)
+        m[2, 2], m[2, 3], m[3, 3] = -2.0 / (far - near), -(far + near) / (far - near), 1.0
+    else:
+        m[0, 2] = (right + left) / (right - left)
+        m[1, 2] = (top + bottom) / (top - bottom)
+        m[2, 2], m[3, 2] = -(far + near) / (far - near), -1.0
+        m[2, 3] = -2.0 * far * near / (far - near)
+    return m
+
+
+def rigid_view(world):
+    """The world-to-camera matrix of a camera object's world matrix, scale removed (Blender
+    renders from the normalised matrix), inverted exactly in float64."""
+    world = np.asarray(world, dtype=np.float64)
+    axes = world[:3, :3]
+    lengths = np.linalg.norm(axes, axis=0)
+    if not np.all(np.isfinite(world)) or np.any(lengths == 0.0):
+        raise ValueError("camera: its scale is zero or its transform is not finite")
+    normalised = world.copy()
+    normalised[:3, :3] = axes / lengths
+    rotation = normalised[:3, :3]
+    if np.abs(rotation.T @ rotation - np.eye(3)).max() > 1e-6:  # sheared by a parent's scale
+        return np.linalg.inv(normalised)
+    view = np.eye(4)
+    view[:3, :3] = rotation.T
+    view[:3, 3] = -rotation.T @ world[:3, 3]
+    return view
 
 
 def orthographic(scale, aspect, near, far, shift=(0.0, 0.0)):

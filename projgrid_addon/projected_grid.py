@@ -11,7 +11,7 @@
   then normals from the grid neighbours (§3.1.1 step 4) and vertex efficiency (§4.1).
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -19,7 +19,7 @@ import numpy as np
 from .camera import Camera
 from .displaceable_volume import visible_volume_points
 from .projector import Projector, aim_projector
-from .scratch import scratch
+from .scratch import CHUNK, scratch
 from .validation import finite, integer, non_negative
 
 MAX_VERTICES = 2**25
@@ -29,12 +29,12 @@ MAX_VERTICES = 2**25
 class GridResult:
     """One rebuild. Vertex arrays are row-major: index = row * resolution_x + column.
 
-    `normals` and `efficiency` are computed on first use: Blender derives its own normals from
-    the faces, and the efficiency is a statistic, so a frame pays for neither.
+    `uv`, `normals` and `efficiency` are computed on first use: the mesh's UVs are written only
+    with its topology, Blender derives its own normals from the faces, and the efficiency is a
+    statistic, so a frame pays for none of them.
     """
 
     positions: np.ndarray  # (N, 3) float32, world space
-    uv: np.ndarray  # (N, 2) float32, projector-space grid coordinates
     surface: tuple  # (x, y, height above level) float64 (ny, nx) arrays, for the normals
     lod: np.ndarray  # (N,) float32, band limit per vertex (height_field.octave_weights)
     visible: bool
@@ -43,6 +43,18 @@ class GridResult:
     resolution: tuple
     origin: np.ndarray  # (3,) float64: world position = origin + positions
     camera: Camera | None = None
+
+    @cached_property
+    def uv(self):
+        """(N, 2) float32 projector-space grid coordinates (§2.4 step 5)."""
+        if not self.visible:
+            return np.zeros((0, 2), np.float32)
+        return grid_uv(*self.resolution)
+
+    def without_surface(self):
+        """This result without its float64 surface (24 bytes a vertex): what is kept after the
+        frame for the statistics (the mesh holds the positions)."""
+        return replace(self, surface=())
 
     @cached_property
     def efficiency(self):
@@ -72,9 +84,9 @@ def check_resolution(resolution):
     return nx, ny
 
 
-@lru_cache(maxsize=8)
 def grid_topology(nx, ny):
-    """(F, 4) int32 quads, counter-clockwise seen from above S_base; built once per resolution."""
+    """(F, 4) int32 quads, counter-clockwise seen from above S_base (not kept: a mesh needs it
+    only when its resolution changes, and a render grid's is 16 bytes a vertex)."""
     idx = np.arange(nx * ny, dtype=np.int32).reshape(ny, nx)
     quads = np.stack(
         [idx[:-1, :-1], idx[:-1, 1:], idx[1:, 1:], idx[1:, :-1]], axis=-1
@@ -94,19 +106,30 @@ def grid_axes(nx, ny):
     return axes
 
 
-@lru_cache(maxsize=8)
 def grid_uv(nx, ny):
     """(N, 2) float32 grid coordinates in [0, 1]^2 (§2.4 step 5)."""
-    u, v = np.meshgrid(np.linspace(0, 1, nx), np.linspace(0, 1, ny))
-    uv = np.column_stack([u.ravel(), v.ravel()]).astype(np.float32)
-    uv.setflags(write=False)
-    return uv
+    uv = np.empty((ny, nx, 2), np.float32)
+    uv[..., 0] = np.linspace(0, 1, nx)
+    uv[..., 1] = np.linspace(0, 1, ny)[:, None]
+    return uv.reshape(-1, 2)
+
+
+def corner_uv(nx, ny, flipped=False):
+    """(4 F, 2) float32 grid coordinates at the corners of grid_topology's quads (corner order
+    reversed if `flipped`), built without gathering through the quads."""
+    uv = np.empty((ny - 1, nx - 1, 4, 2), np.float32)
+    u, v = np.linspace(0, 1, nx), np.linspace(0, 1, ny)[:, None]
+    order = (3, 2, 1, 0) if flipped else (0, 1, 2, 3)
+    for corner, (du, dv) in zip(order, ((0, 0), (1, 0), (1, 1), (0, 1)), strict=True):
+        uv[:, :, corner, 0] = u[du:nx - 1 + du]
+        uv[:, :, corner, 1] = v[dv:ny - 1 + dv]
+    return uv.reshape(-1, 2)
 
 
 def _empty(resolution, octaves, origin):
     z3 = np.zeros((0, 3), np.float32)
-    return GridResult(z3, np.zeros((0, 2), np.float32), (), np.zeros(0, np.float32),
-                      False, (octaves, 0), None, resolution, origin)
+    return GridResult(z3, (), np.zeros(0, np.float32), False, (octaves, 0), None, resolution,
+                      origin)
 
 
 def snapped_origin(camera, level, cell=1024.0):
@@ -152,8 +175,9 @@ def grid_normals(x, y, z):
     return n.reshape(-1, 3).astype(np.float32)
 
 
-def pseudo_log2(ratio):
-    """log2 exact at powers of two and linear between them, from the float32 bits (Mitchell).
+def pseudo_log2(ratio, out=None):
+    """log2 exact at powers of two and linear between them, from the float32 bits (Mitchell),
+    into `out` (float32) if given.
 
     With it the band limit's weight of octave i, clip(lod - i, 0, 1), fades linearly in the
     wavelength-to-spacing ratio between 2 and 4 spacings (a mip-map's linear blend); the exact
@@ -164,14 +188,17 @@ def pseudo_log2(ratio):
         ratio32 = scratch("ratio32", ratio.shape, np.float32)
         np.copyto(ratio32, ratio, casting="same_kind")
         ratio = ratio32
-    lod = ratio.view(np.int32).astype(np.float32)
-    lod *= np.float32(2.0**-23)
-    lod -= np.float32(127.0)
-    return lod
+    if out is None:
+        out = np.empty(ratio.shape, np.float32)
+    np.copyto(out, ratio.view(np.int32), casting="unsafe")
+    out *= np.float32(2.0**-23)
+    out -= np.float32(127.0)
+    return out
 
 
-def band_limit_lod(c, left, right, u, hw, wave_scale):
-    """Per-vertex level of detail log2(wave_scale / (2 spacing)) (see height_field.octave_weights).
+def band_limit_steps(c, left, right, u, wave_scale):
+    """The band limit's grid steps (§3.2): per row along u and per column along v, in units of
+    wave_scale / 2, each still to be divided by w^2 at the vertex (see `band_limit_lod`).
 
     The spacing is the larger grid step of the homography's Jacobian. For p = h / w with h affine
     along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with D = right - left: a per-row vector
@@ -187,14 +214,21 @@ def band_limit_lod(c, left, right, u, hw, wave_scale):
     e = iu * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
     along_v = np.hypot(e[:, 0] * bottom[:, 3] - bottom[:, 0] * e[:, 3],
                        e[:, 1] * bottom[:, 3] - bottom[:, 1] * e[:, 3]) / (ny - 1)
+    return along_u, along_v, 2.0 / wave_scale
+
+
+def band_limit_lod(steps, rows, hw, out):
+    """Per-vertex level of detail log2(wave_scale / (2 spacing)) (see height_field.octave_weights)
+    of the grid `rows` whose w are `hw`, into `out` (float32); `steps` from band_limit_steps."""
+    along_u, along_v, scale = steps
     step = scratch("step", hw.shape, np.float64)
-    np.maximum(along_u[:, None], along_v[None, :], out=step)
-    step *= 2.0 / wave_scale
+    np.maximum(along_u[rows, None], along_v[None, :], out=step)
+    step *= scale
     ratio = scratch("ratio", hw.shape, np.float64)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         np.multiply(hw, hw, out=ratio)
         ratio /= step
-    return pseudo_log2(np.fmax(ratio, 0.0, out=ratio))  # a degenerate 0 / 0 keeps no octave
+    return pseudo_log2(np.fmax(ratio, 0.0, out=ratio), out)  # a degenerate 0 / 0 keeps no octave
 
 
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
@@ -230,21 +264,25 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     u, iu, v, iv = grid_axes(nx, ny)
     left = iv * c[0] + v * c[2]  # (ny, 4): hom at u = 0
     right = iv * c[1] + v * c[3]  # (ny, 4): hom at u = 1
-    hw = scratch("hw", (ny, nx), np.float64)
-    term = scratch("term", (2, ny, nx), np.float64)
-    np.multiply(iu, left[:, 3:4], out=hw)
-    np.multiply(u, right[:, 3:4], out=term[0])
-    hw += term[0]
     xy = np.empty((2, ny, nx))
-    np.multiply(iu, left[:, 0:2].T[:, :, None], out=xy)
-    np.multiply(u, right[:, 0:2].T[:, :, None], out=term)
-    xy += term
-    xy /= hw
+    lod = np.empty((ny, nx), np.float32) if band_limit else None
+    steps = band_limit_steps(c, left, right, u, hf.wave_scale) if band_limit else None
+    for start in range(0, ny, max(1, CHUNK // nx)):
+        rows = slice(start, min(ny, start + max(1, CHUNK // nx)))
+        n = rows.stop - start
+        hw = scratch("hw", (n, nx), np.float64)
+        term = scratch("term", (n, nx), np.float64)
+        np.multiply(iu, left[rows, 3:4], out=hw)
+        np.multiply(u, right[rows, 3:4], out=term)
+        hw += term
+        for k in (0, 1):
+            np.multiply(iu, left[rows, k:k + 1], out=xy[k, rows])
+            np.multiply(u, right[rows, k:k + 1], out=term)
+            xy[k, rows] += term
+            xy[k, rows] /= hw
+        if band_limit:
+            band_limit_lod(steps, rows, hw, lod[rows])
     x, y = xy
-
-    lod = None
-    if band_limit:
-        lod = band_limit_lod(c, left, right, u, hw, hf.wave_scale)
     h = hf.heights_xy(xy, time, lod)
     positions = np.empty((ny, nx, 3), dtype=np.float32)
     np.subtract(x, origin[0], out=positions[..., 0], casting="same_kind")
@@ -257,5 +295,5 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
         lod = lod.reshape(-1)
         first = int(np.clip(np.floor(lod.min()), 0, hf.octaves))
         shader = (first, hf.octaves - first)
-    return GridResult(positions, grid_uv(nx, ny), (x, y, h), lod, True, shader, projector,
+    return GridResult(positions, (x, y, h), lod, True, shader, projector,
                       (nx, ny), origin, camera)

@@ -3,13 +3,16 @@
 A fresh NumPy temporary of a few hundred kilobytes is mapped from the OS and faulted in page by
 page, and the allocator hands it back when it is freed; at 257^2 vertices that cost as much as
 the arithmetic. The passes therefore write their temporaries into buffers kept between frames,
-sized to the largest grid built so far (about 80 bytes per vertex).
+and run CHUNK points at a time, so the buffers stay a few megabytes for any grid.
 """
 
 import math
 import threading
 
 import numpy as np
+
+# Points per pass of the per-vertex stages, so their buffers keep this size whatever the grid.
+CHUNK = 1 << 16
 
 _local = threading.local()
 

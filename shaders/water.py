@@ -260,10 +260,8 @@ def update_godrays(mat, tile, lookup):
 
 
 def material():
-    """Our water material (made once; reused while it is ours)."""
-    mat = bpy.data.materials.get(MATERIAL)
-    if mat is not None and mat.get(TAG):
-        return mat
+    """A new water material of ours, for one ocean: the frame handler writes each ocean's own
+    shader inputs (detail, time, sun) into its material (they share the node group)."""
     mat = bpy.data.materials.new(MATERIAL)
     mat[TAG] = True
     nodes = empty_tree(mat).nodes
@@ -275,6 +273,15 @@ def material():
     mat.node_tree.links.new(group.outputs["Shader"], output.inputs["Surface"])
     mat.use_backface_culling = False
     return mat
+
+
+def own_material(mesh):
+    """Give our mesh a copy of its water material of ours if another mesh uses it too (a
+    duplicated ocean, or a file from when oceans shared one), so its inputs are its own."""
+    mat = mesh.materials[0] if len(mesh.materials) else None
+    if (mat is not None and mat.get(TAG) and mat.library is None
+            and mat.users > 1 + int(mat.use_fake_user)):
+        mesh.materials[0] = mat.copy()
 
 
 def sun_lamp(scene, depsgraph):

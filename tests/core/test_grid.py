@@ -30,9 +30,8 @@ def test_thesis_default_grid():
     assert 0 <= first <= 8 and first + count == 8
 
 
-def test_topology_built_once_and_counter_clockwise():
+def test_topology_counter_clockwise():
     q = grid_topology(4, 3)
-    assert q is grid_topology(4, 3)
     assert q.shape == (6, 4) and q.dtype == np.int32
     assert list(q[0]) == [0, 1, 5, 4]
 
@@ -81,3 +80,13 @@ def test_core_imports_without_bpy():
     code = ("import sys; sys.modules['bpy'] = None; import projgrid_addon; "
             "assert 'bpy' not in [m for m in sys.modules if sys.modules[m]]")
     subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
+
+
+@pytest.mark.parametrize("flipped", [False, True])
+def test_corner_uv_is_the_grid_uv_at_each_corner(flipped):
+    from projgrid_addon import corner_uv, grid_uv
+
+    quads = grid_topology(5, 4)
+    if flipped:
+        quads = quads[:, ::-1]
+    assert np.array_equal(corner_uv(5, 4, flipped), grid_uv(5, 4)[quads.ravel()])

@@ -71,8 +71,12 @@ def pose_from_bytes(data):
         d.uniform(-bound - 1.0, bound + 1.0),  # inside or next to the displaceable volume
         d.pick(0.0, bound, -bound),
     )
-    near = d.log_uniform(1e-4, 10.0)
-    far = d.log_uniform(near * 10.0, 1e7)
+    # Clip start and end drawn independently over all a Blender camera allows in practice; a far
+    # clip not beyond the near one (which Blender refuses) is redrawn above it.
+    near = d.log_uniform(1e-6, 10.0)
+    far = d.log_uniform(1e-2, 1e9)
+    if far <= 1.01 * near:
+        far = d.log_uniform(1.01 * near, 1e9)
     ortho_scale = d.log_uniform(0.1, 1e4) if d.unit() < 0.25 else 0.0  # one pose in four
     pose = Pose(
         height=height,
@@ -183,6 +187,14 @@ NAMED = {
     "far from the origin": Pose(distance=1e6, bearing=33.0, height=5.0),
     "late in time": Pose(time=1e7),
     "extreme clip range": Pose(near=1e-4, far=1e7, pitch=-1.0),
+    # Clip ranges whose float32 projection (Blender's calc_matrix_camera) rounds the depth terms
+    # off: the grid is built from the float64 projection (camera.blender_projection).
+    "clip 0.1 to 1e7": Pose(near=0.1, far=1e7, pitch=-3.0),
+    "clip 1e-4 to 2e4": Pose(near=1e-4, far=2e4, pitch=-3.0),
+    "clip 1 to 1e8": Pose(near=1.0, far=1e8, pitch=-3.0),
+    "clip 1e-6 to 1e9": Pose(near=1e-6, far=1e9, pitch=-3.0),
+    "clip 1e-6 to 1e9 at the horizon": Pose(near=1e-6, far=1e9, pitch=0.0, height=2.0),
+    "clip 1e-6 to 1e9 from high up": Pose(near=1e-6, far=1e9, pitch=-20.0, height=10_000.0),
     "high altitude": Pose(height=10_000.0, pitch=-30.0, far=1e7),
     "lens shift": Pose(shift_x=0.5, shift_y=-0.5, pitch=-5.0),
     "projector elevation": Pose(height=1.0, pitch=-5.0, elevation=40.0),

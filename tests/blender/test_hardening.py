@@ -1,0 +1,515 @@
+"""The ways studios use an object, each giving the right sea or a clear message (issue 12).
+
+Linked oceans run in a fresh process, as a farm worker does, so a crash fails one test rather
+than ending the session. Renders use Workbench at a tiny size: what is checked is the mesh each
+rendered frame saw and our objects' flags, which do not depend on the engine.
+"""
+
+import os
+import subprocess
+import sys
+import textwrap
+from importlib import import_module
+
+import bpy
+import numpy as np
+import pytest
+
+from tools.demo import MODULE
+from tools.package import ROOT
+
+from .conftest import USER
+from .helpers import RenderCapture, add_camera, add_ocean, positions
+
+
+def core(name):
+    return import_module(f"{MODULE}.projgrid_addon.{name}")
+
+
+def stats_lines(obj, scene):
+    return import_module(f"{MODULE}.panels.ocean_panel").stats_lines(obj, scene)
+
+
+def workbench(scene, size=(64, 36)):
+    r = scene.render
+    r.engine = "BLENDER_WORKBENCH"
+    r.resolution_x, r.resolution_y = size
+    r.resolution_percentage = 100
+
+
+def expected_grid(bridge, scene, settings, level, render=True):
+    """The grid a local ocean with `settings` at `level` draws for the scene camera now."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    res = ((settings.render_resolution_x, settings.render_resolution_y) if render
+           else (settings.resolution_x, settings.resolution_y))
+    camera = core("projected_grid").Camera(*bridge.camera_for(scene, depsgraph))
+    return core("projected_grid").build_grid(
+        camera, bridge.height_field(settings), level=level, time=bridge.scene_time(scene),
+        resolution=res, projector_elevation=settings.projector_elevation,
+        origin=np.array([0.0, 0.0, level]))
+
+
+# ---- 1. Linked oceans and library overrides -------------------------------------------------
+
+def make_asset(path):
+    """An asset file: the ocean (small render grid, its own waves) in a collection "Sea"."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    sea = bpy.data.collections.new("Sea")
+    scene.collection.children.link(sea)
+    bpy.context.view_layer.active_layer_collection = \
+        bpy.context.view_layer.layer_collection.children["Sea"]
+    obj = add_ocean()
+    s = obj.projgrid
+    s.render_resolution_x, s.render_resolution_y = 17, 33
+    s.amplitude, s.seed = 1.0, 3
+    bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+    assert len(obj.data.vertices) == 65 * 129  # back on screen after the save
+
+
+LINK_WORKER = textwrap.dedent("""
+    import sys
+    import bpy
+    import numpy as np
+    asset, mode, out, root = sys.argv[1:5]
+    sys.path.insert(0, root)
+    from tests.blender.helpers import add_camera, positions
+    bpy.ops.wm.read_userpref()
+    bpy.ops.wm.read_homefile(use_empty=True)
+
+    def shot(link):
+        scene = bpy.context.scene
+        add_camera(scene, location=(30.0, -20.0, 4.0), rotation=(85.0, 0.0, 20.0))
+        r = scene.render
+        r.engine, r.resolution_x, r.resolution_y = "BLENDER_WORKBENCH", 64, 36
+        if mode == "instance":
+            with bpy.data.libraries.load(asset, link=link) as (src, dst):
+                dst.collections = ["Sea"]
+            empty = bpy.data.objects.new("Instance", None)
+            empty.instance_type, empty.instance_collection = "COLLECTION", dst.collections[0]
+            empty.location = (0.0, 0.0, 2.0)
+            scene.collection.objects.link(empty)
+            ocean = next(o for o in dst.collections[0].all_objects if o.projgrid.is_ocean)
+            if not link:  # appended: the expected sea is the ocean itself at the instance's level
+                scene.collection.objects.link(ocean)
+                empty.instance_collection = None
+                ocean.location.z = 2.0
+        else:
+            with bpy.data.libraries.load(asset, link=link) as (src, dst):
+                dst.objects = ["Ocean"]
+            ocean = dst.objects[0]
+            scene.collection.objects.link(ocean)
+        if link and mode == "override":
+            ocean = ocean.override_create(remap_local_usages=True)
+            ocean.projgrid.render_resolution_x = 9  # the settings callback on an override
+        elif mode == "override":
+            ocean.projgrid.render_resolution_x = 9
+        bpy.context.view_layer.update()
+        seen = {}
+        def capture(scene, _=None):
+            for o in scene.objects:
+                ours = o.projgrid.is_ocean or o.get("projgrid_stand_in")
+                if o.type == "MESH" and ours and len(o.data.vertices):
+                    seen[o.name] = (positions(o.data).copy(), np.array(o.matrix_world))
+        bpy.app.handlers.render_post.append(capture)
+        scene.frame_set(5)
+        bpy.ops.render.render()
+        bpy.app.handlers.render_post.remove(capture)
+        return ocean, seen
+
+    ocean, linked = shot(link=True)
+    lib = [o for o in bpy.data.objects if o.library is not None and o.projgrid.is_ocean][0]
+    results = {"library_vertices": len(lib.data.vertices),
+               "library_amplitude": lib.projgrid.amplitude,
+               "names": sorted(linked), "stand_ins": [o.name for o in bpy.data.objects
+                                                     if o.get("projgrid_stand_in")]}
+    bpy.ops.wm.read_homefile(use_empty=True)
+    _, local = shot(link=False)
+    (drawn, m1), = linked.values()
+    (want, m2), = local.values()
+    world = lambda p, m: p @ m[:3, :3].T + m[:3, 3]
+    np.savez(out, drawn=world(drawn, m1), want=world(want, m2), **{k: np.array(v) for k, v in
+             results.items()})
+""")
+
+
+@pytest.mark.parametrize("mode", ["link", "override", "instance"])
+def test_linked_ocean_renders_its_sea_through_a_stand_in(tmp_path, mode):
+    """A fresh worker links the asset's ocean (the object, a library override of it, or its
+    collection as an instance 2 m up) and renders: the sea is drawn by a local stand-in of ours,
+    equal to the sea the same ocean appended (made local) draws, and the library's mesh and
+    settings are never written."""
+    asset = str(tmp_path / "asset.blend")
+    make_asset(asset)
+    out = str(tmp_path / "seen.npz")
+    env = {**os.environ, "BLENDER_USER_RESOURCES": USER}
+    done = subprocess.run([sys.executable, "-c", LINK_WORKER, asset, mode, out, ROOT],
+                          env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-1500:] + done.stderr[-2000:]
+    seen = np.load(out)
+    assert list(seen["names"]) == ["Ocean Sea"] and list(seen["stand_ins"]) == ["Ocean Sea"]
+    assert int(seen["library_vertices"]) == 0  # saved empty, never written
+    assert float(seen["library_amplitude"]) == 1.0
+    rows = 9 if mode == "override" else 17
+    assert seen["drawn"].shape == seen["want"].shape == (rows * 33, 3)
+    assert np.allclose(seen["drawn"], seen["want"], atol=1e-4)
+    if mode == "instance":
+        assert abs(np.median(seen["drawn"][:, 2]) - 2.0) < 0.5
+
+
+def test_saving_writes_our_meshes_empty_and_keeps_the_view(tmp_path):
+    scene = bpy.context.scene
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "empty.blend"))
+    dirty = bpy.data.is_dirty  # (bpy 4.5 as a module leaves every saved file dirty)
+    add_camera(scene)
+    obj = add_ocean()
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "saved.blend"))
+    assert len(obj.data.vertices) == 65 * 129 and bpy.data.is_dirty == dirty
+    copy = str(tmp_path / "copy.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=copy, copy=True)
+    with bpy.data.libraries.load(copy) as (src, dst):
+        dst.meshes = ["Ocean"]
+    assert len(dst.meshes[0].vertices) == 0
+
+
+# ---- 2. Wide clip ranges ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("clip", [(0.1, 1e7), (1e-4, 2e4), (1.0, 1e8), (1e-6, 1e9)],
+                         ids=lambda c: f"{c[0]:g}-{c[1]:g}")
+def test_wide_clip_ranges_give_a_finite_gap_free_grid(bridge, clip):
+    scene = bpy.context.scene
+    cam = add_camera(scene, rotation=(87.0, 0.0, 0.0))
+    cam.data.clip_start, cam.data.clip_end = clip
+    obj = add_ocean()
+    scene.frame_set(2)
+    assert bridge.STATE[obj.name_full]["message"] is None
+    p = positions(obj.data)
+    assert len(p) == 65 * 129 and np.all(np.isfinite(p))
+    # Gap-free: the nearest row spans the screen's width, the farthest reaches the horizon.
+    view, proj = bridge.camera_for(scene, bpy.context.evaluated_depsgraph_get())
+    clip_space = np.c_[p, np.ones(len(p))] @ (proj @ view).T
+    ndc = clip_space[:, :2] / clip_space[:, 3:]
+    assert ndc[:65, 0].min() <= -1.0 and ndc[:65, 0].max() >= 1.0
+    assert ndc[:, 1].min() <= -1.0
+
+
+@pytest.mark.parametrize("kind", ["PERSP", "ORTHO"])
+@pytest.mark.parametrize("fit", ["AUTO", "HORIZONTAL", "VERTICAL"])
+def test_float64_projection_equals_blenders(bridge, kind, fit):
+    """Where Blender's float32 matrix is exact enough, ours is the same matrix."""
+    scene = bpy.context.scene
+    cam = add_camera(scene)
+    d = cam.data
+    d.type, d.sensor_fit, d.lens, d.ortho_scale = kind, fit, 28.0, 12.0
+    d.shift_x, d.shift_y, d.sensor_width, d.sensor_height = 0.2, -0.1, 36.0, 20.0
+    d.clip_start, d.clip_end = 0.5, 900.0
+    scene.render.resolution_x, scene.render.resolution_y = 500, 900
+    scene.render.pixel_aspect_x = 2.0
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    _, ours = bridge.camera_for(scene, depsgraph)
+    x, y, sx, sy = bridge.render_size(scene)
+    theirs = np.array(cam.evaluated_get(depsgraph).calc_matrix_camera(
+        depsgraph, x=x, y=y, scale_x=sx, scale_y=sy))
+    assert np.allclose(ours, theirs, rtol=1e-6, atol=1e-6)
+
+
+# ---- 3. A hidden ocean hides its helpers --------------------------------------------------------
+
+def underwater_ocean():
+    scene = bpy.context.scene
+    add_camera(scene, location=(0.0, 0.0, -3.0), rotation=(100.0, 0.0, 0.0))
+    sea = bpy.data.collections.new("Sea")
+    scene.collection.children.link(sea)
+    bpy.context.view_layer.active_layer_collection = \
+        bpy.context.view_layer.layer_collection.children["Sea"]
+    obj = add_ocean()
+    workbench(scene)
+    scene.frame_set(1)
+    assert "UNDERWATER" in obj.projgrid.active_effects
+    return scene, obj
+
+
+def companions(obj):
+    return [getattr(obj.projgrid, p) for p in ("water_body", "shadow_caster",
+                                               "reflection_probe")]
+
+
+class FlagCapture:
+    """Records our companions' render visibility as each frame is rendered."""
+
+    def __init__(self, obj):
+        self.obj, self.seen = obj, []
+
+    def __call__(self, scene, _=None):
+        self.seen.append({c.name: (c.hide_render, c.is_holdout) for c in companions(self.obj)})
+
+    def __enter__(self):
+        bpy.app.handlers.render_post.append(self)
+        return self
+
+    def __exit__(self, *exc):
+        bpy.app.handlers.render_post.remove(self)
+
+
+def test_hidden_ocean_renders_no_helpers():
+    scene, obj = underwater_ocean()
+    body = obj.projgrid.water_body
+    assert not body.hide_render
+    obj.hide_render = True
+    with FlagCapture(obj) as flags:
+        bpy.ops.render.render()
+    assert all(hidden for hidden, _ in flags.seen[0].values())
+    obj.hide_render = False
+    obj.hide_viewport = True
+    bpy.context.view_layer.update()
+    assert body.hide_viewport
+
+
+def test_helpers_follow_exclusion_and_holdout():
+    scene, obj = underwater_ocean()
+    for companion in companions(obj):
+        assert set(companion.users_collection) == set(obj.users_collection)
+    # Moved to another collection (M in the viewport): the companions follow it.
+    other = bpy.data.collections.new("Other")
+    scene.collection.children.link(other)
+    other.objects.link(obj)
+    bpy.data.collections["Sea"].objects.unlink(obj)
+    bpy.context.view_layer.update()
+    for companion in companions(obj):
+        assert set(companion.users_collection) == {other}
+    obj.is_holdout = True
+    bpy.context.view_layer.update()
+    with FlagCapture(obj) as flags:
+        bpy.ops.render.render()
+    assert all(holdout for _, holdout in flags.seen[0].values())
+    bpy.context.view_layer.layer_collection.children["Other"].exclude = True
+    bpy.context.view_layer.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    assert not any(c.evaluated_get(depsgraph).is_evaluated for c in companions(obj))
+
+
+# ---- 4. Background sets and collection instances ------------------------------------------------
+
+def test_ocean_in_a_background_set_is_built_for_the_rendering_camera(bridge):
+    shot = bpy.context.scene
+    backdrop = bpy.data.scenes.new("Backdrop")
+    add_camera(backdrop, location=(50.0, 50.0, 30.0), rotation=(60.0, 0.0, 90.0))
+    with bpy.context.temp_override(scene=backdrop, view_layer=backdrop.view_layers[0]):
+        assert bpy.ops.projgrid.add_ocean() == {"FINISHED"}
+    obj = backdrop.objects["Ocean"]
+    obj.projgrid.render_resolution_x, obj.projgrid.render_resolution_y = 17, 33
+    add_camera(shot, location=(0.0, 0.0, 6.0), rotation=(84.0, 0.0, 0.0))
+    shot.background_set = backdrop
+    workbench(shot)
+    with RenderCapture() as seen:
+        bpy.ops.render.render(scene=shot.name)
+    want = expected_grid(bridge, shot, obj.projgrid, 0.0).positions
+    assert np.allclose(seen.frames[shot.frame_current], want, atol=1e-5)
+
+
+def test_ocean_inside_collection_instances(bridge):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    sea = bpy.data.collections.new("Sea")
+    sea.objects.link(obj)
+    scene.collection.objects.unlink(obj)
+    first = bpy.data.objects.new("First", None)
+    first.instance_type, first.instance_collection = "COLLECTION", sea
+    first.location = (0.0, 0.0, 2.0)
+    scene.collection.objects.link(first)
+    scene.frame_set(2)
+    # Shown once: the ocean's own mesh, built for the instance's level and the scene camera.
+    p = positions(obj.data)
+    want = expected_grid(bridge, scene, obj.projgrid, 2.0, render=False).positions
+    assert np.allclose(p, want, atol=1e-5)
+    # Shown twice: a stand-in for each instance, and no ocean mesh repeated in both.
+    second = bpy.data.objects.new("Second", None)
+    second.instance_type, second.instance_collection = "COLLECTION", sea
+    second.location = (0.0, 0.0, -1.0)
+    scene.collection.objects.link(second)
+    scene.frame_set(3)
+    assert len(obj.data.vertices) == 0
+    stand_ins = sorted((o for o in scene.objects if o.get("projgrid_stand_in")),
+                       key=lambda o: o.location.z)
+    assert [round(o.location.z, 6) for o in stand_ins] == [-1.0, 2.0]
+    assert all(len(o.data.vertices) == 65 * 129 for o in stand_ins)
+    # One instance removed: back to the ocean's own mesh; the stale stand-in is deleted.
+    bpy.data.objects.remove(second)
+    bpy.context.view_layer.update()
+    scene.frame_set(4)
+    assert len(obj.data.vertices) == 65 * 129
+    assert [o.name for o in scene.objects if o.get("projgrid_stand_in")] == []
+
+
+# ---- 5. Negative scale --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("scale", [(-1.0, 1.0, 1.0), (1.0, 1.0, -2.0), (-1.0, -1.0, 1.0)])
+def test_mirrored_ocean_faces_up(scale):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    obj.scale = scale
+    scene.frame_set(2)
+    bpy.context.view_layer.update()
+    m = np.array(obj.matrix_world)
+    mesh = obj.data
+    normals = np.empty(len(mesh.polygons) * 3, np.float32)
+    mesh.polygons.foreach_get("normal", normals)
+    # Blender shades with the local normals taken through the inverse transpose of the object's
+    # matrix (a mirrored object keeps its outside): they must point up out of the water.
+    world = normals.reshape(-1, 3) @ np.linalg.inv(m[:3, :3])
+    assert np.all(world[:, 2] > 0.0)
+
+
+# ---- 6. Edit mode -------------------------------------------------------------------------------
+
+def test_edit_mode_skips_rebuilding_and_says_so(bridge, extension):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        scene.frame_set(3)
+        extension.projgrid_addon.handlers.frame_change_post(scene, depsgraph)
+        assert bridge.update_ocean(obj, scene, depsgraph).startswith("'Ocean' is in Edit Mode")
+        obj.projgrid.resolution_x = 9
+        message = bridge.update_ocean(obj, scene, depsgraph, settings=obj.projgrid)
+        assert "Edit Mode" in message
+        assert any("Edit Mode" in text for _, text in stats_lines(obj, scene))
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+    scene.frame_set(4)
+    assert len(obj.data.vertices) == 9 * 129
+
+
+# ---- 7. Memory ----------------------------------------------------------------------------------
+
+def test_a_grid_too_big_for_memory_is_refused_before_allocating(bridge, monkeypatch):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    memory = core("memory")
+    monkeypatch.setattr(memory, "available_bytes", lambda: 64 * 2**20)
+    obj.projgrid.resolution_x = obj.projgrid.resolution_y = 1025
+    message = bridge.STATE[obj.name_full]["message"]
+    assert message.startswith("a 1025x1025 grid needs about") and "viewport grid" in message
+    assert len(obj.data.vertices) == 0
+
+
+def test_out_of_memory_while_writing_leaves_no_half_built_mesh(bridge, monkeypatch):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    real = bridge.corner_uv
+
+    def fails(nx, ny, flipped):  # after the faces are made, before the UVs
+        raise MemoryError
+
+    monkeypatch.setattr(bridge, "corner_uv", fails)
+    obj.projgrid.resolution_x = 33  # the settings callback: nothing escapes
+    message = bridge.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(),
+                                  settings=obj.projgrid)
+    assert "out of memory" in message
+    assert len(obj.data.vertices) == 0 and len(obj.data.polygons) == 0
+    monkeypatch.setattr(bridge, "corner_uv", real)
+    scene.frame_set(5)
+    assert len(obj.data.vertices) == 33 * 129
+
+
+# ---- Smaller ones -------------------------------------------------------------------------------
+
+def test_marker_camera_switch_is_followed_by_frame_set(bridge):
+    scene = bpy.context.scene
+    first = add_camera(scene)
+    second = add_camera(scene, location=(40.0, 0.0, 12.0), rotation=(70.0, 0.0, 90.0))
+    scene.camera = first
+    obj = add_ocean()
+    scene.timeline_markers.new("A", frame=1).camera = first
+    scene.timeline_markers.new("B", frame=5).camera = second
+    scene.frame_set(5)
+    built = bridge.STATE[obj.name_full]["key"][2]  # before any other evaluation rebuilds it
+    view = bridge.camera_for(scene, bpy.context.evaluated_depsgraph_get(), second)[0]
+    assert built == view.tobytes()
+
+
+def test_each_ocean_shades_with_its_own_settings(bridge):
+    scene = bpy.context.scene
+    add_camera(scene)
+    calm = add_ocean()
+    rough = add_ocean()
+    rough.projgrid.amplitude = 3.0
+    calm.projgrid.amplitude = 0.2
+    scene.frame_set(2)
+    heights = []
+    for obj in (calm, rough):
+        mat = obj.data.materials[0]
+        heights.append(mat.node_tree.nodes["Projected Grid Water"].inputs["Detail Height"]
+                       .default_value)
+    assert calm.data.materials[0] != rough.data.materials[0]
+    assert heights[1] > heights[0] > 0.0
+    # A duplicate sharing its original's material gets its own at the next update.
+    mesh = rough.data.copy()
+    twin = rough.copy()
+    twin.data = mesh
+    scene.collection.objects.link(twin)
+    bpy.context.view_layer.update()
+    assert twin.data.materials[0] != rough.data.materials[0]
+
+
+def test_lock_interface_left_off_by_the_user_stays_off(tmp_path):
+    scene = bpy.context.scene
+    add_camera(scene)
+    name = add_ocean().name
+    assert scene.render.use_lock_interface
+    scene.render.use_lock_interface = False
+    path = str(tmp_path / "unlocked.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    scene = bpy.context.scene
+    assert not scene.render.use_lock_interface
+    lines = [text for _, text in stats_lines(scene.objects[name], scene)]
+    assert any("Lock Interface is off" in t and "renders need it" in t for t in lines)
+
+
+def test_refused_frames_are_named_in_the_render_log(capfd, tmp_path):
+    scene = bpy.context.scene
+    cam = add_camera(scene)
+    add_ocean()
+    cam.data.type = "PANO"
+    workbench(scene)
+    scene.frame_start, scene.frame_end = 1, 2
+    scene.render.filepath = str(tmp_path / "f_")
+    capfd.readouterr()
+    bpy.ops.render.render(animation=True)
+    lines = [line for line in capfd.readouterr().out.splitlines()
+             if line.startswith("Projected Grid Ocean: frame")]
+    assert len(lines) == 2 and "not built" in lines[0] and "panoramic" in lines[0]
+
+
+def test_scale_messages_say_what_is_wrong_and_what_to_do(bridge):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    obj.scale = (1e-5, 1e-5, 1e-5)
+    scene.frame_set(2)
+    assert bridge.STATE[obj.name_full]["message"] is None
+    assert len(obj.data.vertices) == 65 * 129
+    obj.scale = (1.0, 0.0, 1.0)
+    scene.frame_set(3)
+    message = bridge.STATE[obj.name_full]["message"]
+    assert "scale is zero on Y" in message and "give it a non-zero scale" in message
+
+
+@pytest.mark.parametrize("setting, value, advice", [
+    ("amplitude", 1e4, "lower Amplitude"), ("projector_elevation", 1e4, "lower it")])
+def test_settings_at_their_maxima_warn_of_a_flat_sea(bridge, setting, value, advice):
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    assert bridge.STATE[obj.name_full]["warning"] is None
+    setattr(obj.projgrid, setting, value)
+    warning = bridge.STATE[obj.name_full]["warning"]
+    assert warning.startswith("no wave is in the geometry") and advice in warning
+    assert any(advice in text for _, text in stats_lines(obj, scene))
