@@ -31,8 +31,8 @@ def rebuild(op, context):
         bridge.LIVE_VIEW.update(view=view[0], proj=view[1])
     scene = context.scene
     depsgraph = context.evaluated_depsgraph_get()
-    for obj in bridge.ocean_objects(scene):
-        bridge.update_ocean(obj, scene, depsgraph, render=False)
+    for app in bridge.appearances(scene):
+        bridge.update_appearance(app, scene, depsgraph, render=False)
 
 
 def finish(op, context):
@@ -57,7 +57,7 @@ class PROJGRID_OT_live_preview(bpy.types.Operator):
         return context.area is not None and context.area.type == "VIEW_3D"
 
     def invoke(self, context, event):
-        if not bridge.ocean_objects(context.scene):
+        if not bridge.appearances(context.scene):
             self.report({"ERROR"}, "No ocean in this scene: use Add Ocean first")
             return {"CANCELLED"}
         self.space = context.space_data

@@ -381,9 +381,10 @@ def ocean_axes(world):
     if not np.all(np.isfinite(world)):
         raise ValueError("the ocean object's transform is not finite: reset its location, "
                          "rotation and scale")
-    lengths = np.linalg.norm(linear, axis=0)
+    lengths = np.sqrt((linear * linear).sum(axis=0))
     zero = [axis for axis, length in zip("XYZ", lengths, strict=True) if length == 0.0]
-    if zero or np.linalg.cond(linear) > 1e12:
+    # Independent axes: the volume they span is not negligible against their lengths.
+    if zero or abs(np.linalg.det(linear)) <= 1e-12 * lengths.prod():
         axes = "/".join(zero) or "one axis"
         raise ValueError(f"the ocean object's scale is zero on {axes}: give it a non-zero scale "
                          "(the sea ignores its scale and rotation, but needs them invertible)")
@@ -465,7 +466,7 @@ def update_appearance(app, scene, depsgraph, render=None, view=None, settings=No
         if key == state.get("key"):
             return None
         memory.check_grid(res, len(mesh.vertices) != res[0] * res[1],
-                          "render" if render else "viewport")
+                          "render" if render else "viewport", large_only=True)
         start = time.perf_counter()
         result = build_grid(cam, hf, level=world[2, 3], time=t, resolution=res,
                             projector_elevation=settings.projector_elevation,

@@ -170,7 +170,7 @@ def rigid_view(world):
     renders from the normalised matrix), inverted exactly in float64."""
     world = np.asarray(world, dtype=np.float64)
     axes = world[:3, :3]
-    lengths = np.linalg.norm(axes, axis=0)
+    lengths = np.sqrt((axes * axes).sum(axis=0))
     if not np.all(np.isfinite(world)) or np.any(lengths == 0.0):
         raise ValueError("camera: its scale is zero or its transform is not finite")
     normalised = world.copy()

@@ -47,11 +47,18 @@ def grid_bytes(resolution, new_topology):
     return nx * ny * (REBUILD_BYTES + (TOPOLOGY_BYTES if new_topology else 0))
 
 
-def check_grid(resolution, new_topology, which, available=None):
+# Below this a rebuild is not worth asking the system about (it costs a file read per frame).
+SMALL_BYTES = 64 * 2**20
+
+
+def check_grid(resolution, new_topology, which, available=None, large_only=False):
     """ValueError saying what to lower if the grid would not fit in the memory available
-    (`available` bytes, default what the system reports; unknown: no check)."""
-    free = available_bytes() if available is None else available
+    (`available` bytes, default what the system reports; unknown: no check). With `large_only`
+    a rebuild needing less than SMALL_BYTES is not checked."""
     need = grid_bytes(resolution, new_topology)
+    if large_only and need < SMALL_BYTES:
+        return
+    free = available_bytes() if available is None else available
     if free is not None and need > free:
         nx, ny = resolution
         raise ValueError(f"a {nx}x{ny} grid needs about {need / 2**30:.1f} GB and "

@@ -118,6 +118,16 @@ LINK_WORKER = textwrap.dedent("""
         return ocean, seen
 
     ocean, linked = shot(link=True)
+    # Saved and opened again (as a farm worker opens the shot): the same sea.
+    bpy.ops.wm.save_as_mainfile(filepath=out + ".blend")
+    bpy.ops.wm.open_mainfile(filepath=out + ".blend")
+    reopened = {}
+    def again(scene, _=None):
+        o = bpy.data.objects["Ocean Sea"]
+        reopened["sea"] = positions(o.data).copy(), np.array(o.matrix_world)
+    bpy.app.handlers.render_post.append(again)
+    bpy.ops.render.render()
+    bpy.app.handlers.render_post.remove(again)
     lib = [o for o in bpy.data.objects if o.library is not None and o.projgrid.is_ocean][0]
     results = {"library_vertices": len(lib.data.vertices),
                "library_amplitude": lib.projgrid.amplitude,
@@ -128,8 +138,8 @@ LINK_WORKER = textwrap.dedent("""
     (drawn, m1), = linked.values()
     (want, m2), = local.values()
     world = lambda p, m: p @ m[:3, :3].T + m[:3, 3]
-    np.savez(out, drawn=world(drawn, m1), want=world(want, m2), **{k: np.array(v) for k, v in
-             results.items()})
+    np.savez(out, drawn=world(drawn, m1), want=world(want, m2),
+             reopened=world(*reopened["sea"]), **{k: np.array(v) for k, v in results.items()})
 """)
 
 
@@ -137,8 +147,8 @@ LINK_WORKER = textwrap.dedent("""
 def test_linked_ocean_renders_its_sea_through_a_stand_in(tmp_path, mode):
     """A fresh worker links the asset's ocean (the object, a library override of it, or its
     collection as an instance 2 m up) and renders: the sea is drawn by a local stand-in of ours,
-    equal to the sea the same ocean appended (made local) draws, and the library's mesh and
-    settings are never written."""
+    equal to the sea the same ocean appended (made local) draws, the same again when the saved
+    shot is opened and rendered, and the library's mesh and settings are never written."""
     asset = str(tmp_path / "asset.blend")
     make_asset(asset)
     out = str(tmp_path / "seen.npz")
@@ -153,6 +163,7 @@ def test_linked_ocean_renders_its_sea_through_a_stand_in(tmp_path, mode):
     rows = 9 if mode == "override" else 17
     assert seen["drawn"].shape == seen["want"].shape == (rows * 33, 3)
     assert np.allclose(seen["drawn"], seen["want"], atol=1e-4)
+    assert np.array_equal(seen["reopened"], seen["drawn"])
     if mode == "instance":
         assert abs(np.median(seen["drawn"][:, 2]) - 2.0) < 0.5
 

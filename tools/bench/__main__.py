@@ -50,6 +50,8 @@ def main(quick=False, only=None):
         ("scene_update", lambda: blender_bench.scene_update_cost(
             counts=(0, 200) if quick else (0, 100, 1000), repeats=3 if quick else 7)),
         ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
+        ("memory", lambda: blender_bench.memory_cost(
+            sizes=((257, 513),) if quick else ((257, 513), (1025, 2049), (2049, 4097)))),
         ("render", lambda: blender_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),

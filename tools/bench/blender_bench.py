@@ -283,9 +283,9 @@ import numpy as np
 nx, ny, root = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 sys.path.insert(0, root)
 from tools.bench.blender_bench import extension, memory_status, reset_peak
-from tools.demo import add_camera
+from tools.demo import MODULE, add_camera
 
-bpy.ops.wm.read_userpref()  # the extension, as a worker's blender starts with it
+bpy.ops.preferences.addon_enable(module=MODULE)  # installed by the bench's process
 bpy.ops.wm.read_homefile(use_empty=True)
 scene = bpy.context.scene
 add_camera(scene)

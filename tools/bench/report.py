@@ -329,6 +329,25 @@ def write(results, docs):
                              ("without our handler ms", "without_ms", ".1f"),
                              ("ours ms", "ours", ".1f")]), ""]
 
+    mem = results.get("memory")
+    if mem:
+        md += ["## 9. Memory per vertex", "",
+               "Bytes per vertex of a render-grid rebuild, each size in a fresh Blender process: "
+               "the core's peak (its arrays and its passes' buffers, which run "
+               "`scratch.CHUNK` vertices at a time; NumPy's allocations through tracemalloc), "
+               "and the process's peak resident growth (Linux VmHWM, reset before each step) "
+               "for a rebuild that builds the mesh's topology (the first frame at a new "
+               "resolution) and for one that reuses it, with what stays resident after each "
+               "(the mesh itself: positions, corners, edges, UVs, attributes). The memory "
+               "check (`memory.py`) refuses a grid whose measured need exceeds the memory the "
+               "system has free, before anything is allocated.", "",
+               _table(mem, [("grid", "resolution", ""), ("vertices", "vertices", ",d"),
+                            ("core peak", "core", ".0f"),
+                            ("new topology: peak", "topology", ".0f"),
+                            ("held after", "topology_held", ".0f"),
+                            ("same topology: peak", "rebuild", ".0f"),
+                            ("held after", "rebuild_held", ".0f")]), ""]
+
     md[6:6] = ["## Targets", "",
                _table([{"t": t, "v": v, "ok": "met" if ok else "**not met**"}
                        for t, v, ok in targets],
