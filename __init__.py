@@ -8,9 +8,9 @@ package of the repository root, and the core's tests must run without bpy.
 def _modules():
     """Registered in this order, unregistered in exact reverse."""
     from . import operators, panels
-    from .projgrid_addon import bridge, handlers
+    from .projgrid_addon.bridge import handlers, settings
 
-    return (bridge, operators, panels, handlers)
+    return (settings, operators, panels, handlers)
 
 
 def register():

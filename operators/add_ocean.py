@@ -2,8 +2,9 @@
 
 import bpy
 
-from ..projgrid_addon import bridge, handlers
+from ..projgrid_addon.bridge import companions, frame, handlers
 from ..shaders import sky, water
+from ..shaders.nodes import TAG
 
 
 def has_sun(scene):
@@ -25,7 +26,7 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         scene = context.scene
         collection = context.collection or scene.collection
         mesh = bpy.data.meshes.new("Ocean")
-        mesh[bridge.TAG] = True
+        mesh[TAG] = True
         mesh.materials.append(water.material())
         obj = bpy.data.objects.new("Ocean", mesh)
         obj.projgrid.is_ocean = True
@@ -34,7 +35,7 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         if hasattr(obj, "cycles"):
             obj.cycles.use_deform_motion = False
         collection.objects.link(obj)
-        bridge.ensure_companions(obj)
+        companions.ensure_companions(obj)
 
         added = []
         if scene.world is None:
@@ -54,7 +55,7 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
             self.report({"INFO"}, message)
         if added:
             self.report({"INFO"}, "Added " + " and ".join(added))
-        problem = bridge.update_ocean(obj, scene, context.evaluated_depsgraph_get())
+        problem = frame.update_ocean(obj, scene, context.evaluated_depsgraph_get())
         if problem:
             self.report({"WARNING"}, f"Ocean added but not built: {problem}")
         return {"FINISHED"}

@@ -8,7 +8,8 @@ scene camera in camera view, whenever the view or the frame changes.
 import bpy
 import numpy as np
 
-from ..projgrid_addon import bridge
+from ..projgrid_addon.bridge import frame, scene
+from ..projgrid_addon.bridge.state import RUNTIME
 
 STATUS = "Ocean live preview: Esc or right-click to stop"
 
@@ -24,19 +25,15 @@ def view_matrices(space):
 
 def rebuild(op, context):
     """Point the viewport rebuild at the view and rebuild every ocean (unchanged input: no work)."""
-    view = view_matrices(op.space)
-    if view is None:
-        bridge.LIVE_VIEW.clear()
-    else:
-        bridge.LIVE_VIEW.update(view=view[0], proj=view[1])
-    scene = context.scene
+    RUNTIME.live_view = view_matrices(op.space)
+    the_scene = context.scene
     depsgraph = context.evaluated_depsgraph_get()
-    for app in bridge.appearances(scene):
-        bridge.update_appearance(app, scene, depsgraph, render=False)
+    for app in scene.appearances(the_scene):
+        frame.update_appearance(app, the_scene, depsgraph, render=False, frame_change=False)
 
 
 def finish(op, context):
-    bridge.LIVE_VIEW.clear()
+    RUNTIME.live_view = None
     if op._timer is not None:
         context.window_manager.event_timer_remove(op._timer)
         op._timer = None
@@ -57,7 +54,7 @@ class PROJGRID_OT_live_preview(bpy.types.Operator):
         return context.area is not None and context.area.type == "VIEW_3D"
 
     def invoke(self, context, event):
-        if not bridge.appearances(context.scene):
+        if not scene.appearances(context.scene):
             self.report({"ERROR"}, "No ocean in this scene: use Add Ocean first")
             return {"CANCELLED"}
         self.space = context.space_data
@@ -72,7 +69,7 @@ class PROJGRID_OT_live_preview(bpy.types.Operator):
         if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
             finish(self, context)
             return {"CANCELLED"}
-        if bridge.RENDERING["active"]:  # step aside: the render handlers own the mesh
+        if RUNTIME.rendering:  # step aside: the render handlers own the mesh
             return {"PASS_THROUGH"}
         if event.type == "TIMER":
             try:

@@ -1,52 +1,54 @@
-"""The 3D View sidebar tab "Ocean": settings, Add Ocean, Live Preview and live stats."""
+"""The 3D View sidebar tab "Ocean": Add Ocean and Live Preview, then sub-panels for the waves,
+the grids, the effects and the live status, as Blender's own panels lay out settings."""
 
 import bpy
 
-from ..projgrid_addon import bridge, effects
+from ..projgrid_addon import effects
+from ..projgrid_addon.bridge import frame, scene
+from ..projgrid_addon.bridge.state import RUNTIME
 
 
 def active_ocean(context):
     obj = context.active_object
     if obj is not None and obj.type == "MESH" and obj.projgrid.is_ocean:
         return obj
-    oceans = bridge.ocean_objects(context.scene) if context.scene else []
+    oceans = scene.ocean_objects(context.scene) if context.scene else []
     return oceans[0] if oceans else None
 
 
-def stats_lines(obj, scene):
+def stats_lines(obj, the_scene):
     """The panel's status lines for an ocean (plain strings, so tests can check them)."""
     lines = []
-    state = bridge.STATE.get(obj.name_full, {})
-    if state.get("drawn_by"):
+    own = RUNTIME.peek(obj)
+    if own is not None and own.drawn_by:
         why = ("linked from a library" if obj.library else "a library override"
                if obj.override_library else "shown more than once")
-        lines.append(("LINKED", f"Drawn by our local {state['drawn_by']!r} ({why})"))
-        state = {**state, **bridge.STATE.get(state["drawn_by"], {})}
-    if state.get("message"):
-        lines.append(("ERROR", f"Not built: {state['message']}"))
-    elif state.get("hidden"):
+        lines.append(("LINKED", f"Drawn by our local {own.drawn_by!r} ({why})"))
+    state = frame.surface_state(obj)
+    if state is not None and state.message:
+        lines.append(("ERROR", f"Not built: {state.message}"))
+    elif state is not None and state.hidden:
         lines.append(("HIDE_ON", "Hidden: not rebuilt while it does not show"))
-    elif "vertices" in state:
-        first, count = state.get("shader_octaves", (0, 0))
-        grid = state.get("grid")
-        efficiency = grid.efficiency if grid is not None else 0.0  # computed on first draw
+    elif state is not None and state.grid is not None:
+        first, count = state.grid.shader_octaves
         lines += [
-            ("MESH_GRID", f"Vertices: {state['vertices']:,}"),
-            ("RESTRICT_VIEW_OFF", f"Vertex efficiency: {efficiency:.0%}"),
-            ("TIME", f"Last rebuild: {state['ms']:.2f} ms"),
+            ("MESH_GRID", f"Vertices: {state.vertices:,}"),
+            ("RESTRICT_VIEW_OFF", f"Vertex efficiency: {state.grid.efficiency:.0%}"),
+            ("TIME", f"Last rebuild: {state.ms:.2f} ms"),
             ("SHADING_TEXTURE", f"Octaves in the shader: {count} (from {first})"),
         ]
-    if state.get("warning"):
-        lines.append(("ERROR", f"Flat: {state['warning']}"))
-    if not scene.render.use_lock_interface:
+    if state is not None and state.warning:
+        lines.append(("ERROR", f"Flat: {state.warning}"))
+    if not the_scene.render.use_lock_interface:
         lines.append(("LOCKED", "Lock Interface is off: renders need it (Render > Lock "
                       "Interface), since the ocean is rebuilt while rendering"))
     return lines
 
 
 def effect_lines(obj):
-    """(effect, mode property, "on: reason" or "off: reason") for the last built frame."""
-    decisions = bridge.STATE.get(obj.name_full, {}).get("effects") or {}
+    """(effect, "on: reason" or "off: reason") for the last built frame."""
+    state = frame.surface_state(obj)
+    decisions = (state.effects if state is not None else None) or {}
     lines = []
     for effect in effects.EFFECTS:
         on, reason = decisions.get(effect, (False, "not built yet"))
@@ -68,33 +70,67 @@ class VIEW3D_PT_projgrid_ocean(bpy.types.Panel):
         obj = active_ocean(context)
         if obj is None:
             layout.label(text="No ocean in this scene", icon="INFO")
-            return
-        s = obj.projgrid
-        layout.label(text=obj.name, icon="OBJECT_DATA")
-        col = layout.column(align=True)
-        col.prop(s, "amplitude")
-        col.prop(s, "wave_scale")
-        col.prop(s, "octaves")
-        col.prop(s, "roughness")
-        col.prop(s, "speed")
-        col.prop(s, "seed")
-        layout.prop(s, "projector_elevation")
-        layout.prop(s, "noise")
-        col = layout.column(align=True)
-        col.label(text="Viewport grid")
-        col.prop(s, "resolution_x", text="X")
+        else:
+            layout.label(text=obj.name, icon="OBJECT_DATA")
+
+
+class _OceanSubPanel:
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Ocean"
+    bl_parent_id = "VIEW3D_PT_projgrid_ocean"
+
+    @classmethod
+    def poll(cls, context):
+        return active_ocean(context) is not None
+
+    def settings(self, context):
+        self.layout.use_property_split = True
+        self.layout.use_property_decorate = True  # keyframe dots: every setting animates
+        return active_ocean(context).projgrid
+
+
+class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Waves"
+
+    def draw(self, context):
+        s = self.settings(context)
+        col = self.layout.column()
+        for prop in ("amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
+                     "wind_speed", "noise"):
+            col.prop(s, prop)
+
+
+class VIEW3D_PT_projgrid_grid(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Grid"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        s = self.settings(context)
+        col = self.layout.column(align=True)
+        col.prop(s, "resolution_x", text="Viewport X")
         col.prop(s, "resolution_y", text="Y")
-        col = layout.column(align=True)
-        col.label(text="Render grid")
-        col.prop(s, "render_resolution_x", text="X")
+        col = self.layout.column(align=True)
+        col.prop(s, "render_resolution_x", text="Render X")
         col.prop(s, "render_resolution_y", text="Y")
-        layout.prop(s, "wind_speed")
-        box = layout.box()
-        box.label(text="Effects", icon="SHADING_RENDERED")
-        for effect, text in effect_lines(obj):
-            col = box.column(align=True)
+        self.layout.prop(s, "projector_elevation")
+
+
+class VIEW3D_PT_projgrid_effects(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Effects"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        s = self.settings(context)
+        for effect, text in effect_lines(active_ocean(context)):
+            col = self.layout.column(align=True)
             col.prop(s, effect)
             col.label(text=text)
-        box = layout.box()
-        for icon, text in stats_lines(obj, context.scene):
-            box.label(text=text, icon=icon)
+
+
+class VIEW3D_PT_projgrid_status(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Status"
+
+    def draw(self, context):
+        for icon, text in stats_lines(active_ocean(context), context.scene):
+            self.layout.label(text=text, icon=icon)

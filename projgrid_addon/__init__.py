@@ -1,9 +1,10 @@
 """Projected-grid ocean core (Johanson 2004), NumPy only: no bpy is imported here."""
 
 from . import memory
+from .band_limit import octave_weights
 from .camera import Camera, look_at, orthographic, perspective
 from .displaceable_volume import bound_planes, visible_volume_points
-from .height_field import HeightField, NoiseTiles, octave_weights
+from .height_field import HeightField, NoiseTiles
 from .projected_grid import (
     GridResult,
     build_grid,

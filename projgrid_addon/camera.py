@@ -75,7 +75,7 @@ class Camera:
         """Boolean mask of points (N, 3) inside V_cam: world points, or points relative to
         `origin` (such as a grid's float32 positions, tested in float32 without a float64 copy).
 
-        Computed as (4, N) rows: NumPy is an order of magnitude slower on (N, 4) arrays.
+        Computed as (4, N) rows: NumPy is far slower on (N, 4) arrays.
         """
         points = np.asarray(points)
         dtype = np.float32 if points.dtype == np.float32 else np.float64
@@ -88,6 +88,15 @@ class Camera:
         return ((w > 0) & (a[0] <= w) & (a[1] <= w) & (a[2] <= w)).reshape(points.shape[:-1])
 
 
+def view_matrix(position, right, up, forward):
+    """The world-to-camera matrix of a camera at `position` with orthonormal axes `right`, `up`
+    and `forward` (it looks down its local -Z): rotation rows, then the rigid translation."""
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = right, up, -np.asarray(forward, dtype=np.float64)
+    m[:3, 3] = -m[:3, :3] @ np.asarray(position, dtype=np.float64)
+    return m
+
+
 def look_at(eye, target, up=(0.0, 0.0, 1.0)):
     """A world-to-camera matrix for a camera at `eye` looking at `target` (for tests and tools)."""
     eye = np.asarray(eye, dtype=np.float64)
@@ -97,11 +106,7 @@ def look_at(eye, target, up=(0.0, 0.0, 1.0)):
     if np.linalg.norm(r) < 1e-12:
         r = np.cross(f, (0.0, 1.0, 0.0))
     r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    m = np.eye(4)
-    m[0, :3], m[1, :3], m[2, :3] = r, u, -f
-    m[:3, 3] = -m[:3, :3] @ eye
-    return m
+    return view_matrix(eye, r, np.cross(r, f), f)
 
 
 def perspective(fov_y, aspect, near, far, shift=(0.0, 0.0)):
@@ -178,10 +183,7 @@ def rigid_view(world):
     rotation = normalised[:3, :3]
     if np.abs(rotation.T @ rotation - np.eye(3)).max() > 1e-6:  # sheared by a parent's scale
         return np.linalg.inv(normalised)
-    view = np.eye(4)
-    view[:3, :3] = rotation.T
-    view[:3, 3] = -rotation.T @ world[:3, 3]
-    return view
+    return view_matrix(world[:3, 3], rotation[:, 0], rotation[:, 1], -rotation[:, 2])
 
 
 def orthographic(scale, aspect, near, far, shift=(0.0, 0.0)):

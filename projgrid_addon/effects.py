@@ -59,17 +59,22 @@ class SceneFacts:
     sun_elevation: float | None  # degrees above the horizon; None: no sun lamp
     objects: list = field(default_factory=list)  # SceneObject
     sun_direction: tuple | None = None  # unit vector towards the sun
+    objects_key: tuple | None = None  # objects_key(objects), when the caller keeps it
 
     def key(self):
-        """A compact value equal for equal facts (repr printed every box corner: 85 % of a
-        viewport update with 1000 objects, measured)."""
-        o = self.objects
-        boxes = [x.corners for x in o if x.corners is not None]
+        """A compact value equal for equal facts, cheap to compare on every update."""
+        objects = self.objects_key if self.objects_key is not None else objects_key(self.objects)
         return (self.camera_height, self.bound, self.wind_speed, self.sun_elevation,
-                self.sun_direction, tuple(x.name for x in o),
-                np.array([(x.z_min, x.z_max, x.in_view, x.mirrored_in_view) for x in o],
-                         dtype=np.float64).tobytes(),
-                np.asarray(boxes, dtype=np.float64).tobytes())
+                self.sun_direction, objects)
+
+
+def objects_key(objects):
+    """A compact value equal for equal lists of SceneObjects."""
+    boxes = [x.corners for x in objects if x.corners is not None]
+    return (tuple(x.name for x in objects),
+            np.array([(x.z_min, x.z_max, x.in_view, x.mirrored_in_view) for x in objects],
+                     dtype=np.float64).tobytes(),
+            np.asarray(boxes, dtype=np.float64).tobytes())
 
 
 def whitecap_coverage(wind_speed, water_minus_air=0.0):
@@ -238,13 +243,20 @@ def contact_foam(x, y, z, boxes, width):
     p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1)
     foam = np.zeros(len(p), dtype=np.float32)
     for corners in np.asarray(boxes, dtype=np.float64).reshape(-1, 8, 3):
+        # Only the points within `width` of the box's extent in x and y can get any.
+        lo, hi = corners[:, :2].min(axis=0) - width, corners[:, :2].max(axis=0) + width
+        near_box = np.flatnonzero((p[:, 0] >= lo[0]) & (p[:, 0] <= hi[0])
+                                  & (p[:, 1] >= lo[1]) & (p[:, 1] <= hi[1]))
+        if near_box.size == 0:
+            continue
+        q = p[near_box]
         origin = corners[0]
         edges = corners[[4, 3, 1]] - origin  # (3, 3)
         length2 = np.einsum("ij,ij->i", edges, edges)
-        t = (p - origin) @ edges.T / np.where(length2 > 0.0, length2, 1.0)
+        t = (q - origin) @ edges.T / np.where(length2 > 0.0, length2, 1.0)
         nearest = origin + np.clip(t, 0.0, 1.0) @ edges
-        near = np.clip(1.0 - np.linalg.norm(p - nearest, axis=-1) / width, 0.0, 1.0)
-        np.maximum(foam, near * near, out=foam, casting="unsafe")
+        near = np.clip(1.0 - np.linalg.norm(q - nearest, axis=-1) / width, 0.0, 1.0)
+        foam[near_box] = np.maximum(foam[near_box], near * near)
     return foam
 
 
@@ -346,3 +358,56 @@ def tile_lookup(sun_direction, level, corner, size, ior=1.333):
     b = np.array((0.0, 1.0, -sy)) / size
     c = ((sx * level - corner[0]) / size, (sy * level - corner[1]) / size)
     return a, b, c
+
+
+# ---- The per-vertex and per-frame fields the Blender layer writes (computed only while on) ----
+
+CONTACT_FOAM_REACH = 0.5  # metres of foam around an object, beyond the waves' own height
+GODRAY_TILE_SIZE = 32.0  # metres across the godrays' caustic tile (repeated beyond)
+GODRAY_TILE_TEXELS = 256  # texels across it
+
+
+def contact_foam_width(bound):
+    """How far contact foam reaches from an object: half a metre plus the waves' bound."""
+    return CONTACT_FOAM_REACH + bound
+
+
+def foam_field(surface, height_field, time, wind_speed, crests, boxes, level):
+    """Per-vertex foam of a frame in [0, 1], or None with neither kind on: on the crests (when
+    `crests`) covering the wind's whitecap share, and rings around the `boxes` crossing the
+    water (contact foam), combined by their maximum. `surface` is GridResult.surface."""
+    foam = None
+    if crests:
+        coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
+        threshold = foam_threshold(height_field, time, coverage)
+        foam = foam_amount(surface[2].ravel(), threshold, 0.25 * height_field.amplitude)
+    if len(boxes):
+        x, y, h = surface
+        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(height_field.bound))
+        foam = ring if foam is None else np.maximum(foam, ring)
+    return foam
+
+
+def caustic_field(surface, facts):
+    """Per-vertex caustic shadow transparency minus CAUSTIC_MEAN (Fleck Eq. 28), focused for
+    the depth of the submerged objects in view; None without a sun."""
+    if facts.sun_direction is None:
+        return None
+    intensity = caustic_intensity(surface, facts.sun_direction, receiving_depth(facts))
+    return caustic_shadow(intensity) - np.float32(CAUSTIC_MEAN)
+
+
+def godray_field(height_field, time, eye, level, facts):
+    """The godrays' caustic tile around the camera and its lookup (`tile_lookup`), or None
+    without a sun. Texel-aligned, so the pattern stays put in the world as the camera moves;
+    focused at the camera's depth (the light around the eye), clipped at 4 so a focus's
+    singular peak does not become a firefly."""
+    if facts.sun_direction is None:
+        return None
+    size, n = GODRAY_TILE_SIZE, GODRAY_TILE_TEXELS
+    texel = size / n
+    centre = np.round(np.asarray(eye[:2], dtype=np.float64) / texel) * texel
+    depth = max(-facts.camera_height, 1.0)
+    tile = caustic_tile(height_field, time, centre, size, n, facts.sun_direction, depth)
+    np.clip(tile, 0.0, 4.0, out=tile)
+    return tile, tile_lookup(facts.sun_direction, level, centre - 0.5 * size, size)

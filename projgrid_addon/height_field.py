@@ -4,8 +4,8 @@
 
 Octave i has wavelength scale / 2^i and evolves at the deep-water rate sqrt(g / (2 pi lambda_i)),
 scaled by `speed`, so small waves change faster than large ones. Each octave has its own hash key.
-w_i in [0, 1] is the band limit: 1 where the grid can carry octave i, fading to 0 over one octave as
-a mip-map would (see `octave_weights`). noise_i is normalised so that |noise_i| <= 1, which makes
+w_i in [0, 1] is the band limit (§3.2, band_limit.py): 1 where the grid can carry octave i, fading
+to 0 over one octave as a mip-map would. noise_i is normalised so that |noise_i| <= 1, which makes
 `bound` a true bound of every height either path returns.
 
 Two evaluation paths give the same function: "exact" evaluates the gradient noise per point (the
@@ -19,25 +19,13 @@ from functools import lru_cache
 import numpy as np
 
 from . import noise as _noise
+from .band_limit import octave_weights
 from .scratch import CHUNK, scratch
 from .validation import finite, integer, non_negative, positive
 
 GRAVITY = 9.81
 MAX_OCTAVES = 24
 METHODS = ("exact", "fast")
-
-
-def octave_weights(lod, octave, out=None):
-    """Band-limit weight of `octave` at per-point level of detail `lod` (None: no band limit),
-    into `out` if given.
-
-    lod = log2(scale / (2 * spacing)): octave i is kept whole while its wavelength is at least four
-    grid spacings and faded out linearly (in octaves) until it is two spacings, the Nyquist limit.
-    """
-    if lod is None:
-        return None
-    w = np.subtract(lod, octave, out=out)
-    return np.clip(w, 0.0, 1.0, out=w)
 
 
 class NoiseTiles:
@@ -186,7 +174,7 @@ class HeightField:
     def heights(self, x, y, t, lod=None):
         """f_HF at world points (x, y) and time t (float64, same shape as x).
 
-        `lod` (per point, see `octave_weights`) band-limits the sum; None keeps every octave.
+        `lod` (per point, band_limit.py) band-limits the sum; None keeps every octave.
         """
         x = np.asarray(x, dtype=np.float64)
         return self.heights_xy(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod)

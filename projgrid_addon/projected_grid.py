@@ -16,6 +16,7 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
+from .band_limit import grid_steps, lod_from_w, shader_octaves
 from .camera import Camera
 from .displaceable_volume import visible_volume_points
 from .projector import Projector, aim_projector
@@ -36,7 +37,7 @@ class GridResult:
 
     positions: np.ndarray  # (N, 3) float32, world space
     surface: tuple  # (x, y, height above level) float64 (ny, nx) arrays, for the normals
-    lod: np.ndarray  # (N,) float32, band limit per vertex (height_field.octave_weights)
+    lod: np.ndarray  # (N,) float32, band limit per vertex (band_limit.py)
     visible: bool
     shader_octaves: tuple  # (first, count): octaves the geometry left out, in part or whole
     projector: Projector | None
@@ -175,62 +176,6 @@ def grid_normals(x, y, z):
     return n.reshape(-1, 3).astype(np.float32)
 
 
-def pseudo_log2(ratio, out=None):
-    """log2 exact at powers of two and linear between them, from the float32 bits (Mitchell),
-    into `out` (float32) if given.
-
-    With it the band limit's weight of octave i, clip(lod - i, 0, 1), fades linearly in the
-    wavelength-to-spacing ratio between 2 and 4 spacings (a mip-map's linear blend); the exact
-    log2 would fade linearly in octaves instead, at five times the cost.
-    """
-    ratio = np.asarray(ratio)
-    if ratio.dtype != np.float32:
-        ratio32 = scratch("ratio32", ratio.shape, np.float32)
-        np.copyto(ratio32, ratio, casting="same_kind")
-        ratio = ratio32
-    if out is None:
-        out = np.empty(ratio.shape, np.float32)
-    np.copyto(out, ratio.view(np.int32), casting="unsafe")
-    out *= np.float32(2.0**-23)
-    out -= np.float32(127.0)
-    return out
-
-
-def band_limit_steps(c, left, right, u, wave_scale):
-    """The band limit's grid steps (§3.2): per row along u and per column along v, in units of
-    wave_scale / 2, each still to be divided by w^2 at the vertex (see `band_limit_lod`).
-
-    The spacing is the larger grid step of the homography's Jacobian. For p = h / w with h affine
-    along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with D = right - left: a per-row vector
-    over w^2, and likewise per column along v. So the ratio is w^2 over the larger of a per-row and
-    a per-column length, and no per-vertex square roots or logarithms are needed.
-    """
-    nx, ny = len(u), len(left)
-    d = right - left
-    along_u = np.hypot(d[:, 0] * left[:, 3] - left[:, 0] * d[:, 3],
-                       d[:, 1] * left[:, 3] - left[:, 1] * d[:, 3]) / (nx - 1)
-    iu = (1.0 - u)[:, None]
-    bottom = iu * c[0] + u[:, None] * c[1]  # (nx, 4): hom at v = 0
-    e = iu * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
-    along_v = np.hypot(e[:, 0] * bottom[:, 3] - bottom[:, 0] * e[:, 3],
-                       e[:, 1] * bottom[:, 3] - bottom[:, 1] * e[:, 3]) / (ny - 1)
-    return along_u, along_v, 2.0 / wave_scale
-
-
-def band_limit_lod(steps, rows, hw, out):
-    """Per-vertex level of detail log2(wave_scale / (2 spacing)) (see height_field.octave_weights)
-    of the grid `rows` whose w are `hw`, into `out` (float32); `steps` from band_limit_steps."""
-    along_u, along_v, scale = steps
-    step = scratch("step", hw.shape, np.float64)
-    np.maximum(along_u[rows, None], along_v[None, :], out=step)
-    step *= scale
-    ratio = scratch("ratio", hw.shape, np.float64)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        np.multiply(hw, hw, out=ratio)
-        ratio /= step
-    return pseudo_log2(np.fmax(ratio, 0.0, out=ratio), out)  # a degenerate 0 / 0 keeps no octave
-
-
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
                projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector):
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
@@ -266,7 +211,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     right = iv * c[1] + v * c[3]  # (ny, 4): hom at u = 1
     xy = np.empty((2, ny, nx))
     lod = np.empty((ny, nx), np.float32) if band_limit else None
-    steps = band_limit_steps(c, left, right, u, hf.wave_scale) if band_limit else None
+    steps = grid_steps(c, left, right, u, hf.wave_scale) if band_limit else None
     for start in range(0, ny, max(1, CHUNK // nx)):
         rows = slice(start, min(ny, start + max(1, CHUNK // nx)))
         n = rows.stop - start
@@ -281,7 +226,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
             xy[k, rows] += term
             xy[k, rows] /= hw
         if band_limit:
-            band_limit_lod(steps, rows, hw, lod[rows])
+            lod_from_w(steps, rows, hw, lod[rows])
     x, y = xy
     h = hf.heights_xy(xy, time, lod)
     positions = np.empty((ny, nx, 3), dtype=np.float32)
@@ -289,11 +234,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     np.subtract(y, origin[1], out=positions[..., 1], casting="same_kind")
     np.add(h, level - origin[2], out=positions[..., 2], casting="same_kind")
     positions = positions.reshape(-1, 3)
-    if lod is None:
-        lod, shader = np.full(nx * ny, np.inf, np.float32), (hf.octaves, 0)
-    else:
-        lod = lod.reshape(-1)
-        first = int(np.clip(np.floor(lod.min()), 0, hf.octaves))
-        shader = (first, hf.octaves - first)
+    shader = shader_octaves(lod, hf.octaves)
+    lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
                       (nx, ny), origin, camera)

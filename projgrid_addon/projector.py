@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .camera import view_matrix
+
 UP = np.array([0.0, 0.0, 1.0])
 # Every projected point of V_visible stays this angle (rad) inside the projector's front half-space.
 MARGIN_ANGLE = 0.01
@@ -27,10 +29,6 @@ RANGE_MARGIN = 1e-5
 _PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, -1.0, 0]])
 _ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
 _INVERSE = {id(m): np.linalg.inv(m) for m in (_PERSPECTIVE, _ORTHOGRAPHIC)}
-
-
-def _unit(v):
-    return v / np.linalg.norm(v)
 
 
 def _horizontal(v):
@@ -51,11 +49,9 @@ class Projector:
 
     @classmethod
     def looking(cls, position, right, up, forward, orthographic):
-        view = np.eye(4)
-        view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
-        view[:3, 3] = -view[:3, :3] @ position
         proj = _ORTHOGRAPHIC if orthographic else _PERSPECTIVE
-        return cls(view, proj, position, forward, orthographic)
+        return cls(view_matrix(position, right, up, forward), proj, position, forward,
+                   orthographic)
 
     def with_range(self, points, origin=(0.0, 0.0, 0.0)):
         """A copy whose span covers `points` on S_base (§2.4.2).

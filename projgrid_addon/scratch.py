@@ -1,9 +1,9 @@
 """Reusable per-thread scratch arrays for the per-vertex passes.
 
 A fresh NumPy temporary of a few hundred kilobytes is mapped from the OS and faulted in page by
-page, and the allocator hands it back when it is freed; at 257^2 vertices that cost as much as
-the arithmetic. The passes therefore write their temporaries into buffers kept between frames,
-and run CHUNK points at a time, so the buffers stay a few megabytes for any grid.
+page, and the allocator hands it back when it is freed (docs/benchmarks.md, findings). The
+passes therefore write their temporaries into buffers kept between frames, and run CHUNK
+points at a time, so the buffers stay a few megabytes for any grid.
 """
 
 import math

@@ -17,9 +17,8 @@ the branch is neither compiled nor evaluated): foam, the glint, and refraction (
 replaced by transparency, dithered; the water body's volume then absorbs and tints what lies
 below, Fleck Eq. 14/17). The water's shadow is cast by a caster object of ours with its own
 material, transparent by the caustics: the scene's sun projects them onto submerged geometry.
-The godrays scatter in the water body by a caustic tile of ours (CAUSTIC_IMAGE). (EEVEE's
-blended render method took 7 minutes for a 320 x 180 still on the CPU, dithered 1 to 2, so
-refraction stays dithered.)
+The godrays scatter in the water body by a caustic tile of ours (CAUSTIC_IMAGE). Refraction
+stays dithered: EEVEE's blended method is far slower on the CPU (docs/benchmarks.md, findings).
 The water body is a volume of our own: absorption a per channel and emission a * water colour, so
 that radiance after d metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14 and 17).
 """
@@ -27,7 +26,6 @@ that radiance after d metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14
 import bpy
 import numpy as np
 
-from ..projgrid_addon.effects import ABSORPTION, CAUSTIC_MEAN
 from .nodes import TAG, Graph, assign, empty_tree
 
 GROUP = "Projected Grid Water"
@@ -35,10 +33,10 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 5  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 6  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
-# Per-vertex caustic shadow transparency minus CAUSTIC_MEAN, written while caustics are on
+# Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
 CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 # The node joining a branch to the water, and the effects that need it; muted while none is on.
@@ -46,7 +44,6 @@ EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Sun Glint": ("sun_glint",),
                 "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
-CAUSTIC_TILE = 256  # texels across the godrays' caustic tile
 
 INPUTS = (  # name, socket type, default; the last group is written by the frame handler
     ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
@@ -63,13 +60,11 @@ INPUTS = (  # name, socket type, default; the last group is written by the frame
     ("Detail Time", "NodeSocketFloat", 0.0),
     ("Detail First Octave", "NodeSocketFloat", 0.0),
 )
-HANDLER_INPUTS = ("Sun Direction", "Sun Colour", "Sun Visible", "Detail Scale", "Detail Height",
-                  "Detail Octaves", "Detail Roughness", "Detail Time", "Detail First Octave")
 
 
 def node_group():
     """Our node group, built if missing or of another version."""
-    group = bpy.data.node_groups.get(GROUP)
+    group = bpy.data.node_groups.get((GROUP, None))  # a local one: never a library's
     if group is not None and group.get(TAG) == VERSION:
         return group
     if group is None or group.get(TAG) is None:
@@ -160,7 +155,7 @@ def _build(group):
 def _versioned_material(name):
     """(our material `name`, None) if it is of this VERSION; else (ours, emptied, or new if the
     name is free or a user's: never taken over) with a Graph to build it into."""
-    mat = bpy.data.materials.get(name)
+    mat = bpy.data.materials.get((name, None))
     if mat is not None and mat.get(TAG) == VERSION:
         return mat, None
     if mat is None or not mat.get(TAG):
@@ -169,20 +164,20 @@ def _versioned_material(name):
     return mat, Graph(empty_tree(mat))
 
 
-def shadow_material():
+def shadow_material(caustic_mean):
     """The water's shadow, for our caster object sharing the ocean's mesh: invisible to camera
-    rays, and to shadow rays transparent by the caustics (Fleck Eq. 28) where they are computed.
+    rays, and to shadow rays transparent by the caustics (Fleck Eq. 28) where they are computed:
+    the attribute holds the transparency minus `caustic_mean`, the flat water's.
 
     A separate, trivial material because EEVEE evaluates a transparent shadow's whole node tree
-    in every shadow-map tile: the water group there made a 160 x 90 still take 163 s on the CPU
-    (llvmpipe) instead of 14 s.
+    in every shadow-map tile (docs/benchmarks.md, findings).
     """
     mat, g = _versioned_material(SHADOW_MATERIAL)
     if g is None:
         return mat
     mat.use_transparent_shadow = True
     caustic = g.node("ShaderNodeAttribute", attribute_name=CAUSTIC_ATTRIBUTE).outputs["Fac"]
-    passed = g.node("ShaderNodeBsdfTransparent", {"Color": g.math("ADD", caustic, CAUSTIC_MEAN)})
+    passed = g.node("ShaderNodeBsdfTransparent", {"Color": g.math("ADD", caustic, caustic_mean)})
     unseen = g.node("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)})
     shadow = g.node("ShaderNodeMixShader", {
         0: g.node("ShaderNodeLightPath").outputs["Is Shadow Ray"], 1: unseen.outputs[0],
@@ -192,14 +187,15 @@ def shadow_material():
     return mat
 
 
-def body_material():
-    """The water body's volume (Fleck Eq. 14/17), with the godrays' in-scattering of the sun:
-    scattering in proportion to the caustic intensity where the sun's ray to each point entered
-    the water, so the light's pattern becomes shafts along the refracted sun."""
+def body_material(absorption, tile_texels):
+    """The water body's volume (Fleck Eq. 14/17) absorbing `absorption` per metre (RGB), with
+    the godrays' in-scattering of the sun: scattering in proportion to the caustic intensity
+    (a `tile_texels` square image of ours) where the sun's ray to each point entered the water,
+    so the light's pattern becomes shafts along the refracted sun."""
     mat, g = _versioned_material(BODY_MATERIAL)
     if g is None:
         return mat
-    a = np.array(ABSORPTION)
+    a = np.array(absorption)
     emitted = a * np.array(INPUTS[0][2][:3])  # e = a * water colour: L -> water colour
     absorb = g.node("ShaderNodeVolumeAbsorption", {"Color": (*(1.0 - a / a.max()), 1.0),
                                                    "Density": float(a.max())})
@@ -215,8 +211,9 @@ def body_material():
         offset.node.name = f"Caustic {axis} Offset"
         uv.append(offset)
     tile = g.node("ShaderNodeTexImage", {"Vector": g.node("ShaderNodeCombineXYZ", {
-        "X": uv[0], "Y": uv[1]}).outputs[0]}, image=caustic_image(), interpolation="Linear",
-        extension="REPEAT")
+        "X": uv[0], "Y": uv[1]}).outputs[0]}, image=caustic_image(tile_texels),
+        interpolation="Linear", extension="REPEAT")
+    tile.name = "Caustic Tile"
     scatter = g.node("ShaderNodeVolumeScatter", {
         "Color": (0.6, 0.9, 1.0, 1.0),
         "Density": g.math("MULTIPLY", tile.outputs["Color"], GODRAY_DENSITY)})
@@ -227,9 +224,9 @@ def body_material():
     return mat
 
 
-def caustic_image(size=CAUSTIC_TILE):
+def caustic_image(size):
     """Our float image holding the godrays' caustic tile (its pixels are written per frame)."""
-    image = bpy.data.images.get(CAUSTIC_IMAGE)
+    image = bpy.data.images.get((CAUSTIC_IMAGE, None))
     if image is not None and image.get(TAG) and tuple(image.size) == (size, size):
         return image
     image = bpy.data.images.new(CAUSTIC_IMAGE, size, size, float_buffer=True, is_data=True)
@@ -238,20 +235,21 @@ def caustic_image(size=CAUSTIC_TILE):
 
 
 def update_godrays(mat, tile, lookup):
-    """The caustic tile's intensities (n x n) into our image and its `lookup`
-    (effects.tile_lookup) into the body material."""
+    """The caustic tile's intensities (n x n) into our image and its `lookup` ((a, b, c): the
+    texture coordinates of a point Q are a.Q + c[0], b.Q + c[1]) into the body material."""
     nodes = mat.node_tree.nodes
-    image = next((n.image for n in nodes if n.type == "TEX_IMAGE"), None)
-    if image is None or not image.get(TAG):
+    node = nodes.get("Caustic Tile")
+    if node is None:
         return
+    if node.image is None or not node.image.get(TAG) or tuple(node.image.size) != tile.shape:
+        node.image = caustic_image(tile.shape[0])
+    image = node.image
     rgba = np.empty((*tile.shape, 4), dtype=np.float32)
     rgba[..., :3] = tile[..., None]
     rgba[..., 3] = 1.0
     image.pixels.foreach_set(rgba.ravel())
     image.update()
-    # Packed, it is not a "modified image" Blender offers to save when the file closes (1.5 ms
-    # for 256 x 256, measured).
-    image.pack()
+    image.pack()  # packed, it is not a "modified image" Blender offers to save at closing
     a, b, c = lookup
     assign(nodes["Caustic U"].inputs[1], default_value=tuple(a))
     assign(nodes["Caustic V"].inputs[1], default_value=tuple(b))
@@ -276,55 +274,80 @@ def material():
 
 
 def own_material(mesh):
-    """Give our mesh a copy of its water material of ours if another mesh uses it too (a
-    duplicated ocean, or a file from when oceans shared one), so its inputs are its own."""
+    """Give our mesh a local copy of its water material of ours if another mesh uses it too (a
+    duplicated ocean, or a file from when oceans shared one) or if it is a library's, so its
+    inputs are its own to write."""
     mat = mesh.materials[0] if len(mesh.materials) else None
-    if (mat is not None and mat.get(TAG) and mat.library is None
-            and mat.users > 1 + int(mat.use_fake_user)):
-        mesh.materials[0] = mat.copy()
+    if mat is not None and mat.get(TAG) and (
+            mat.library is not None or mat.users > 1 + int(mat.use_fake_user)):
+        mesh.materials[0] = adopt_material(mat)
 
 
-def sun_lamp(scene, depsgraph):
-    """The first visible sun lamp of the scene (evaluated), or None."""
-    for obj in scene.objects:
-        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
-            return obj.evaluated_get(depsgraph)
-    return None
+def adopt_material(mat):
+    """The material a mesh of ours drawing another's sea takes: a local copy of a water
+    material of ours (keeping the artist's changes to its inputs, on our local node group), the
+    user's own material as it is (never written), or a new water material if there is none."""
+    if mat is None:
+        return material()
+    if not mat.get(TAG):
+        return mat
+    copy = mat.copy()
+    node = copy.node_tree.nodes.get(GROUP) if copy.node_tree else None
+    if node is not None and node.type == "GROUP" and (
+            node.node_tree is None or node.node_tree.library is not None):
+        node.node_tree = node_group()
+    return copy
 
 
-def sun_direction(sun):
-    """Unit vector towards an (evaluated) sun lamp: it shines along its local -Z."""
-    direction = np.array(sun.matrix_world.col[2][:3])
-    return direction / max(np.linalg.norm(direction), 1e-12)
+def material_of(mesh):
+    """Our local water material on `mesh`, or None (the user's own material, or a library's,
+    is never written)."""
+    mat = mesh.materials[0] if len(mesh.materials) else None
+    ours = mat is not None and mat.get(TAG) and mat.library is None and mat.node_tree
+    return mat if ours else None
 
 
-def update_inputs(obj, sun, height_field, shader_octaves, time, effects_on=None):
-    """Per frame: the sun (the evaluated lamp of `sun_lamp`, or None), the left-out octaves and
-    which effects are on ({effect: bool}) into our material's group."""
-    mat = obj.data.materials[0] if len(obj.data.materials) else None
-    if mat is None or not mat.get(TAG) or not mat.node_tree:
-        return
+def update(mat, effects_on, sun_direction, sun_colour, sun_visible, detail_first, detail_scale,
+           detail_octaves, detail_roughness, detail_height, detail_time_per_frame):
+    """A frame's inputs into our water material's group, each written only when it changed:
+    which effects are on ({effect: bool}), the sun (direction towards it, colour, whether above
+    the horizon; direction and colour None: kept), and the left-out octaves as detail, whose time
+    a driver advances with the frame (`detail_time_per_frame` per frame, subframes included), so
+    an animation writes nothing per frame."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
-    if effects_on is not None and node.node_tree is not None and node.node_tree.get(TAG):
+    if (node.node_tree is not None and node.node_tree.get(TAG)
+            and node.node_tree.library is None):
         set_effects(node.node_tree, effects_on, EFFECT_NODES)
     inputs = node.inputs
-    if sun is not None:
-        direction = sun_direction(sun)
-        assign(inputs["Sun Direction"], default_value=tuple(direction))
-        assign(inputs["Sun Colour"], default_value=(*sun.data.color, 1.0))
-    visible = sun is not None and direction[2] > 0.0
-    assign(inputs["Sun Visible"], default_value=1.0 if visible else 0.0)
-    first, count = shader_octaves
-    hf = height_field
-    assign(inputs["Detail First Octave"], default_value=float(first))
-    assign(inputs["Detail Scale"], default_value=1.0 / hf.wavelength(first))
-    assign(inputs["Detail Octaves"], default_value=float(max(count - 1, 0)))
-    assign(inputs["Detail Roughness"], default_value=min(hf.roughness, 1.0))
-    assign(inputs["Detail Height"],
-           default_value=hf.amplitude * hf.roughness**first if count else 0.0)
-    assign(inputs["Detail Time"], default_value=float(hf.time_coordinate(first, time)))
+    if sun_direction is not None:
+        assign(inputs["Sun Direction"], default_value=tuple(sun_direction))
+        assign(inputs["Sun Colour"], default_value=(*sun_colour, 1.0))
+    assign(inputs["Sun Visible"], default_value=1.0 if sun_visible else 0.0)
+    assign(inputs["Detail First Octave"], default_value=float(detail_first))
+    assign(inputs["Detail Scale"], default_value=float(detail_scale))
+    assign(inputs["Detail Octaves"], default_value=float(detail_octaves))
+    assign(inputs["Detail Roughness"], default_value=float(detail_roughness))
+    assign(inputs["Detail Height"], default_value=float(detail_height))
+    drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
+
+
+def drive_expression(per_frame):
+    return f"frame * {float(per_frame)!r}"
+
+
+def drive_by_frame(tree, socket, per_frame):
+    """A driver setting `socket`'s value to the frame (with its subframe) times `per_frame`,
+    written only when the rate changes (a simple expression: it runs where Python is blocked)."""
+    path = socket.path_from_id("default_value")
+    expression = drive_expression(per_frame)
+    curve = tree.animation_data.drivers.find(path) if tree.animation_data else None
+    if curve is None:
+        curve = socket.driver_add("default_value")
+        curve.driver.type = "SCRIPTED"
+    if curve.driver.expression != expression:
+        curve.driver.expression = expression
 
 
 def set_effects(tree, on, nodes):

@@ -11,7 +11,7 @@ os.environ["BLENDER_USER_RESOURCES"] = USER
 import bpy  # noqa: E402
 import pytest  # noqa: E402
 
-from tools.demo import MODULE, default_shot, install  # noqa: E402
+from tools.demo import MODULE, install  # noqa: E402
 from tools.package import build  # noqa: E402
 
 
@@ -39,14 +39,13 @@ def fresh_file(extension):
 
 @pytest.fixture
 def bridge(extension):
+    """The Blender layer's package (projgrid_addon.bridge: scene, frame, state, ...)."""
     return extension.projgrid_addon.bridge
 
 
 @pytest.fixture
-def shot():
-    """The default shot at test size: camera, EEVEE, and the ocean with its sky and sun."""
-    scene = bpy.context.scene
-    default_shot(scene, size=(320, 180), samples=4)
-    return scene
+def state(bridge):
+    """The runtime state of a surface: `state(obj).message` and the like."""
+    return bridge.state.RUNTIME.state
 
 

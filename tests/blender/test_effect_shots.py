@@ -155,7 +155,7 @@ def test_effects_under_the_water(tmp_path):
     assert np.isfinite(img).all()
 
 
-def test_godrays_scatter_along_the_caustic_pattern(tmp_path, bridge, monkeypatch):
+def test_godrays_scatter_along_the_caustic_pattern(tmp_path, extension, monkeypatch):
     """The water body scatters in proportion to the caustic tile, looked up along the refracted
     sun from where each point's sunlight entered the water. With a tile of 8 m stripes along x,
     swapped on odd frames, the near water on one side of the camera scatters and the other does
@@ -165,7 +165,7 @@ def test_godrays_scatter_along_the_caustic_pattern(tmp_path, bridge, monkeypatch
         frame = round(time * bpy.context.scene.render.fps)
         return np.broadcast_to(2.0 * (band ^ (frame % 2)), (n, n)).astype(np.float32)
 
-    monkeypatch.setattr(bridge.effects, "caustic_tile", stripes)
+    monkeypatch.setattr(extension.projgrid_addon.effects, "caustic_tile", stripes)
     scene, cam, ocean = setup(3.0, 0.0)
     cam.location.z = -2.0
     brighter = []

@@ -61,7 +61,7 @@ def test_sun_below_the_horizon_or_off_mutes_the_glint(ocean):
 
 def test_wind_brings_foam_and_calm_computes_none(ocean, bridge, monkeypatch):
     calls = []
-    effects = bridge.effects
+    effects = import_module(f"{MODULE}.projgrid_addon.effects")
     real = effects.foam_amount
     monkeypatch.setattr(effects, "foam_amount", lambda *a: calls.append(1) or real(*a))
     bpy.context.scene.frame_set(2)
@@ -131,10 +131,11 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     assert not any(nodes[n].mute for n in ("Foam", "Refraction", "Sun Glint"))
     # Contact foam: only near the buoy (1 m from its centre: inside the 2 m box), and only there.
     foam = attribute(ocean, "projgrid_foam")
-    grid = bridge.STATE[ocean.name_full]["grid"]
+    grid = bridge.state.RUNTIME.state(ocean).grid
     gx, gy, _ = (grid.positions.astype(np.float64) + grid.origin).T
     distance = np.maximum(np.abs(gx), np.abs(gy - 40.0)) - 1.0
-    reach = bridge.contact_foam_width(bridge.height_field(ocean.projgrid))
+    effects = import_module(f"{MODULE}.projgrid_addon.effects")
+    reach = effects.contact_foam_width(bridge.scene.height_field(ocean.projgrid).bound)
     assert foam[distance <= -1e-4].min() == 1.0  # (beside the float32 rounding of positions)
     assert foam[distance > reach + 1e-4].max() == 0.0
     caustics = attribute(ocean, "projgrid_caustics")
@@ -193,7 +194,7 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
 
 def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
     calls = []
-    effects = bridge.effects
+    effects = import_module(f"{MODULE}.projgrid_addon.effects")
     for name in ("contact_foam", "caustic_intensity", "caustic_tile", "foam_threshold",
                  "receiving_depth"):
         real = getattr(effects, name)
@@ -212,7 +213,7 @@ def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
 
 
 def test_our_companions_are_ours_and_not_scene_objects(ocean, bridge):
-    assert all(bridge.owns(c) and bridge.owns(c.data) for c in companions(ocean))
+    assert all(bridge.scene.owns(c) and bridge.scene.owns(c.data) for c in companions(ocean))
     assert [c.name for c in companions(ocean)] == ["Ocean Water Body", "Ocean Shadow",
                                                    "Ocean Reflection"]
     bpy.data.objects.remove(ocean.projgrid.reflection_probe)  # deleted by the user: made

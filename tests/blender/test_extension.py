@@ -39,7 +39,7 @@ def test_registration_is_symmetric(extension):
             assert not hasattr(bpy.types, name), name
     finally:
         bpy.ops.preferences.addon_enable(module=MODULE)
-    assert len(our_handlers()) == len(extension.projgrid_addon.handlers.HANDLERS)
+    assert len(our_handlers()) == len(extension.projgrid_addon.bridge.handlers.HANDLERS)
 
 
 def test_add_ocean_in_an_empty_scene(bridge):
@@ -150,7 +150,7 @@ def test_not_in_view_gives_an_empty_mesh(bridge):
 
 
 @pytest.mark.parametrize("problem", ["no camera", "panoramic", "too many vertices", "zero scale"])
-def test_bad_input_is_reported_and_leaves_an_empty_mesh(bridge, problem):
+def test_bad_input_is_reported_and_leaves_an_empty_mesh(state, problem):
     scene = bpy.context.scene
     cam = add_camera(scene)
     obj = add_ocean()
@@ -163,13 +163,13 @@ def test_bad_input_is_reported_and_leaves_an_empty_mesh(bridge, problem):
     else:
         obj.scale = (0.0, 1.0, 1.0)
     scene.frame_set(3)
-    message = bridge.STATE[obj.name_full]["message"]
+    message = state(obj).message
     assert message and len(obj.data.vertices) == 0
     lines = stats_lines(obj, scene)
     assert any("Not built" in text and message in text for _, text in lines)
 
 
-def test_a_replaced_mesh_is_never_touched(bridge):
+def test_a_replaced_mesh_is_never_touched(state):
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
@@ -178,7 +178,7 @@ def test_a_replaced_mesh_is_never_touched(bridge):
     obj.data = mine
     scene.frame_set(4)
     assert len(mine.vertices) == 3 and tuple(mine.vertices[1].co) == (1.0, 0.0, 0.0)
-    assert "replaced" in bridge.STATE[obj.name_full]["message"]
+    assert "replaced" in state(obj).message
 
 
 def test_deleting_the_ocean_or_disabling_the_extension_mid_session():
@@ -222,26 +222,27 @@ def test_live_preview_modal_follows_the_view_and_stops(extension, bridge):
     assert op_cls.modal(op, ctx, timer) == {"PASS_THROUGH"}
     followed = positions(obj.data).copy()
     assert not np.array_equal(followed, from_camera)
-    assert bridge.LIVE_VIEW  # frame changes in the viewport follow the view too
+    runtime = bridge.state.RUNTIME
+    assert runtime.live_view is not None  # frame changes in the viewport follow the view too
     scene.frame_set(3)
-    assert bridge.STATE[obj.name_full]["key"][2] == np.array(view, dtype=np.float64).tobytes()
+    assert np.array_equal(runtime.state(obj).camera[0], np.array(view, dtype=np.float64))
 
-    bridge.RENDERING["active"] = True  # steps aside while rendering
+    runtime.rendering = True  # steps aside while rendering
     op.space = fake_view(Matrix.Translation((0, 0, -30.0)) @ view)
     try:
         assert op_cls.modal(op, ctx, timer) == {"PASS_THROUGH"}
-        assert bridge.STATE[obj.name_full]["key"][2] == np.array(view, dtype=np.float64).tobytes()
+        assert np.array_equal(runtime.state(obj).camera[0], np.array(view, dtype=np.float64))
     finally:
-        bridge.RENDERING["active"] = False
+        runtime.rendering = False
 
     op.space = fake_view(view, perspective="CAMERA")  # camera view: the scene camera
     op_cls.modal(op, ctx, timer)
-    assert not bridge.LIVE_VIEW  # the grid (x, y) is the camera's again; heights move with time
+    assert runtime.live_view is None  # the grid (x, y) is the camera's again; heights move
     assert np.array_equal(positions(obj.data)[:, :2], from_camera[:, :2])
 
     esc = SimpleNamespace(type="ESC", value="PRESS")
     assert op_cls.modal(op, ctx, esc) == {"CANCELLED"}
-    assert status == [None] and not bridge.LIVE_VIEW
+    assert status == [None] and runtime.live_view is None
 
 
 def test_live_preview_needs_an_ocean():
@@ -267,6 +268,7 @@ def test_file_load_ends_the_live_preview(bridge):
     scene = bpy.context.scene
     add_camera(scene)
     add_ocean()
-    bridge.LIVE_VIEW.update(view=np.eye(4), proj=np.eye(4))
+    runtime = bridge.state.RUNTIME
+    runtime.live_view = (np.eye(4), np.eye(4))
     bpy.ops.wm.read_homefile(use_empty=True)
-    assert not bridge.LIVE_VIEW and not bridge.STATE
+    assert runtime.live_view is None and not runtime.surfaces

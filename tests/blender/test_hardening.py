@@ -42,9 +42,10 @@ def expected_grid(bridge, scene, settings, level, render=True):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     res = ((settings.render_resolution_x, settings.render_resolution_y) if render
            else (settings.resolution_x, settings.resolution_y))
-    camera = core("projected_grid").Camera(*bridge.camera_for(scene, depsgraph))
+    read = bridge.scene
+    camera = core("projected_grid").Camera(*read.camera_for(scene, depsgraph))
     return core("projected_grid").build_grid(
-        camera, bridge.height_field(settings), level=level, time=bridge.scene_time(scene),
+        camera, read.height_field(settings), level=level, time=read.scene_time(scene),
         resolution=res, projector_elevation=settings.projector_elevation,
         origin=np.array([0.0, 0.0, level]))
 
@@ -63,7 +64,11 @@ def make_asset(path):
     s = obj.projgrid
     s.render_resolution_x, s.render_resolution_y = 17, 33
     s.amplitude, s.seed = 1.0, 3
+    group = bpy.data.node_groups["Projected Grid Water"]
+    version = group["projgrid_ocean"]
+    group["projgrid_ocean"] = 4  # as an older version saved it: linked, never rebuilt here
     bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)
+    group["projgrid_ocean"] = version
     assert len(obj.data.vertices) == 65 * 129  # back on screen after the save
 
 
@@ -129,8 +134,10 @@ LINK_WORKER = textwrap.dedent("""
     bpy.ops.render.render()
     bpy.app.handlers.render_post.remove(again)
     lib = [o for o in bpy.data.objects if o.library is not None and o.projgrid.is_ocean][0]
+    group = next(g for g in bpy.data.node_groups if g.library is not None)
     results = {"library_vertices": len(lib.data.vertices),
                "library_amplitude": lib.projgrid.amplitude,
+               "library_group": (group["projgrid_ocean"], len(group.nodes)),
                "names": sorted(linked), "stand_ins": [o.name for o in bpy.data.objects
                                                      if o.get("projgrid_stand_in")]}
     bpy.ops.wm.read_homefile(use_empty=True)
@@ -160,12 +167,75 @@ def test_linked_ocean_renders_its_sea_through_a_stand_in(tmp_path, mode):
     assert list(seen["names"]) == ["Ocean Sea"] and list(seen["stand_ins"]) == ["Ocean Sea"]
     assert int(seen["library_vertices"]) == 0  # saved empty, never written
     assert float(seen["library_amplitude"]) == 1.0
+    assert seen["library_group"][0] == 4 and seen["library_group"][1] > 10  # not rebuilt
     rows = 9 if mode == "override" else 17
     assert seen["drawn"].shape == seen["want"].shape == (rows * 33, 3)
     assert np.allclose(seen["drawn"], seen["want"], atol=1e-4)
     assert np.array_equal(seen["reopened"], seen["drawn"])
     if mode == "instance":
         assert abs(np.median(seen["drawn"][:, 2]) - 2.0) < 0.5
+
+
+NESTED_WORKER = textwrap.dedent("""
+    import sys
+    import bpy
+    import numpy as np
+    asset, out, root = sys.argv[1:4]
+    sys.path.insert(0, root)
+    from tests.blender.helpers import add_camera, positions
+    bpy.ops.wm.read_userpref()
+    # Shot A links the asset's ocean into its collection "Layout"; its stand-in is made.
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    add_camera(scene)
+    layout = bpy.data.collections.new("Layout")
+    scene.collection.children.link(layout)
+    with bpy.data.libraries.load(asset, link=True) as (src, dst):
+        dst.objects = ["Ocean"]
+    layout.objects.link(dst.objects[0])
+    bpy.context.view_layer.update()
+    shot_a = out + ".a.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=shot_a)
+    # Shot B links A's "Layout" and A's stand-in (same key as B's own appearance).
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    add_camera(scene, location=(30.0, -20.0, 4.0), rotation=(85.0, 0.0, 20.0))
+    r = scene.render
+    r.engine, r.resolution_x, r.resolution_y = "BLENDER_WORKBENCH", 64, 36
+    with bpy.data.libraries.load(shot_a, link=True) as (src, dst):
+        dst.collections = ["Layout"]
+        dst.objects = ["Ocean Sea"]
+    scene.collection.children.link(dst.collections[0])
+    scene.collection.objects.link(dst.objects[0])
+    bpy.context.view_layer.update()
+    seen = {}
+    def capture(scene, _=None):
+        for o in scene.objects:
+            if o.get("projgrid_stand_in") and o.library is None:
+                seen[o.name] = positions(o.data).copy()
+    bpy.app.handlers.render_post.append(capture)
+    bpy.ops.render.render()
+    bpy.app.handlers.render_post.remove(capture)
+    linked = [o for o in bpy.data.objects if o.get("projgrid_stand_in") and o.library]
+    np.savez(out, names=np.array(sorted(seen)), linked=np.array([o.name for o in linked]),
+             linked_vertices=np.array([len(o.data.vertices) for o in linked]),
+             drawn=np.concatenate(list(seen.values())) if seen else np.zeros((0, 3)))
+""")
+
+
+def test_a_stand_in_linked_from_another_shot_is_never_touched(tmp_path):
+    """Shot B links shot A's collection holding the asset's ocean, and A's own stand-in (whose
+    key is B's too): B draws the sea with a stand-in of its own and leaves A's untouched."""
+    asset = str(tmp_path / "asset.blend")
+    make_asset(asset)
+    out = str(tmp_path / "nested.npz")
+    env = {**os.environ, "BLENDER_USER_RESOURCES": USER}
+    done = subprocess.run([sys.executable, "-c", NESTED_WORKER, asset, out, ROOT],
+                          env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout[-1500:] + done.stderr[-2000:]
+    seen = np.load(out)
+    assert list(seen["linked"]) == ["Ocean Sea"] and list(seen["linked_vertices"]) == [0]
+    assert len(seen["names"]) == 1 and seen["drawn"].shape == (17 * 33, 3)
 
 
 def test_saving_writes_our_meshes_empty_and_keeps_the_view(tmp_path):
@@ -187,17 +257,17 @@ def test_saving_writes_our_meshes_empty_and_keeps_the_view(tmp_path):
 
 @pytest.mark.parametrize("clip", [(0.1, 1e7), (1e-4, 2e4), (1.0, 1e8), (1e-6, 1e9)],
                          ids=lambda c: f"{c[0]:g}-{c[1]:g}")
-def test_wide_clip_ranges_give_a_finite_gap_free_grid(bridge, clip):
+def test_wide_clip_ranges_give_a_finite_gap_free_grid(bridge, state, clip):
     scene = bpy.context.scene
     cam = add_camera(scene, rotation=(87.0, 0.0, 0.0))
     cam.data.clip_start, cam.data.clip_end = clip
     obj = add_ocean()
     scene.frame_set(2)
-    assert bridge.STATE[obj.name_full]["message"] is None
+    assert state(obj).message is None
     p = positions(obj.data)
     assert len(p) == 65 * 129 and np.all(np.isfinite(p))
     # Gap-free: the nearest row spans the screen's width, the farthest reaches the horizon.
-    view, proj = bridge.camera_for(scene, bpy.context.evaluated_depsgraph_get())
+    view, proj = bridge.scene.camera_for(scene, bpy.context.evaluated_depsgraph_get())
     clip_space = np.c_[p, np.ones(len(p))] @ (proj @ view).T
     ndc = clip_space[:, :2] / clip_space[:, 3:]
     assert ndc[:65, 0].min() <= -1.0 and ndc[:65, 0].max() >= 1.0
@@ -217,8 +287,8 @@ def test_float64_projection_equals_blenders(bridge, kind, fit):
     scene.render.resolution_x, scene.render.resolution_y = 500, 900
     scene.render.pixel_aspect_x = 2.0
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    _, ours = bridge.camera_for(scene, depsgraph)
-    x, y, sx, sy = bridge.render_size(scene)
+    _, ours = bridge.scene.camera_for(scene, depsgraph)
+    x, y, sx, sy = bridge.scene.render_size(scene)
     theirs = np.array(cam.evaluated_get(depsgraph).calc_matrix_camera(
         depsgraph, x=x, y=y, scale_x=sx, scale_y=sy))
     assert np.allclose(ours, theirs, rtol=1e-6, atol=1e-6)
@@ -318,41 +388,81 @@ def test_ocean_in_a_background_set_is_built_for_the_rendering_camera(bridge):
     assert np.allclose(seen.frames[shot.frame_current], want, atol=1e-5)
 
 
+def stand_ins(scene):
+    return sorted((o for o in scene.objects if o.get("projgrid_stand_in")),
+                  key=lambda o: o.location.z)
+
+
 def test_ocean_inside_collection_instances(bridge):
+    """An ocean shown through collection instances is drawn by a stand-in of ours per instance,
+    in the scene's own collection (its companions would otherwise take the instance's
+    transform too); the ocean's own mesh, shown in every instance, is empty. Back in the scene
+    itself, once, it draws itself again and the stand-ins go."""
     scene = bpy.context.scene
-    add_camera(scene)
+    add_camera(scene, location=(0.0, 0.0, 4.0))
     obj = add_ocean()
     sea = bpy.data.collections.new("Sea")
     sea.objects.link(obj)
     scene.collection.objects.unlink(obj)
     first = bpy.data.objects.new("First", None)
     first.instance_type, first.instance_collection = "COLLECTION", sea
-    first.location = (0.0, 0.0, 2.0)
+    first.location = (5.0, 0.0, 2.0)
     scene.collection.objects.link(first)
     scene.frame_set(2)
-    # Shown once: the ocean's own mesh, built for the instance's level and the scene camera.
-    p = positions(obj.data)
+    (only,) = stand_ins(scene)
+    assert len(obj.data.vertices) == 0 and tuple(only.location) == (5.0, 0.0, 2.0)
     want = expected_grid(bridge, scene, obj.projgrid, 2.0, render=False).positions
-    assert np.allclose(p, want, atol=1e-5)
-    # Shown twice: a stand-in for each instance, and no ocean mesh repeated in both.
+    assert np.allclose(positions(only.data) + (5.0, 0.0, 0.0), want, atol=1e-4)
+    for helper in [only] + [getattr(only.projgrid, p) for p in ("water_body", "shadow_caster",
+                                                                  "reflection_probe")]:
+        assert set(helper.users_collection) == {scene.collection}
+    # Shown twice: a stand-in for each instance.
     second = bpy.data.objects.new("Second", None)
     second.instance_type, second.instance_collection = "COLLECTION", sea
     second.location = (0.0, 0.0, -1.0)
     scene.collection.objects.link(second)
     scene.frame_set(3)
     assert len(obj.data.vertices) == 0
-    stand_ins = sorted((o for o in scene.objects if o.get("projgrid_stand_in")),
-                       key=lambda o: o.location.z)
-    assert [round(o.location.z, 6) for o in stand_ins] == [-1.0, 2.0]
-    assert all(len(o.data.vertices) == 65 * 129 for o in stand_ins)
-    # One instance removed: back to the ocean's own mesh; the stale stand-in is deleted.
+    assert [round(o.location.z, 6) for o in stand_ins(scene)] == [-1.0, 2.0]
+    assert all(len(o.data.vertices) == 65 * 129 for o in stand_ins(scene))
+    # An instancer that no longer instances (its collection pointer kept) shows nothing.
+    second.instance_type = "NONE"
+    bpy.context.view_layer.update()
+    assert [round(o.location.z, 6) for o in stand_ins(scene)] == [2.0]
+    # Hidden in renders with its instancer.
+    first.hide_render = True
+    bpy.context.view_layer.update()
+    assert stand_ins(scene)[0].hide_render
+    # Back in the scene, not instanced: the ocean draws itself and the stand-ins are deleted.
+    bpy.data.objects.remove(first)
     bpy.data.objects.remove(second)
+    scene.collection.objects.link(obj)
     bpy.context.view_layer.update()
     scene.frame_set(4)
-    assert len(obj.data.vertices) == 65 * 129
-    assert [o.name for o in scene.objects if o.get("projgrid_stand_in")] == []
+    assert len(obj.data.vertices) == 65 * 129 and stand_ins(scene) == []
 
 
+def test_a_linked_ocean_in_two_scenes_has_a_stand_in_in_each(bridge, tmp_path):
+    asset = str(tmp_path / "asset.blend")
+    make_asset(asset)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    with bpy.data.libraries.load(asset, link=True) as (src, dst):
+        dst.objects = ["Ocean"]
+    ocean = dst.objects[0]
+    first = bpy.context.scene
+    second = bpy.data.scenes.new("Second")
+    for scene, x in ((first, 0.0), (second, 300.0)):
+        add_camera(scene, location=(x, 0.0, 6.0))
+        scene.collection.objects.link(ocean)
+    for scene in (first, second):
+        with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+            bridge.handlers.prepare(scene)
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            bridge.frame.update_scene(scene, depsgraph, render=False, frame_change=True)
+    (a,), (b,) = stand_ins(first), stand_ins(second)
+    assert a != b and a.name not in second.objects and b.name not in first.objects
+    xa, xb = positions(a.data)[:, 0].mean(), positions(b.data)[:, 0].mean()
+    assert abs(xa) < 50.0 and abs(xb - 300.0) < 50.0  # each for its own scene's camera
 # ---- 5. Negative scale --------------------------------------------------------------------------
 
 @pytest.mark.parametrize("scale", [(-1.0, 1.0, 1.0), (1.0, 1.0, -2.0), (-1.0, -1.0, 1.0)])
@@ -375,7 +485,7 @@ def test_mirrored_ocean_faces_up(scale):
 
 # ---- 6. Edit mode -------------------------------------------------------------------------------
 
-def test_edit_mode_skips_rebuilding_and_says_so(bridge, extension):
+def test_edit_mode_skips_rebuilding_and_says_so(bridge):
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
@@ -383,10 +493,11 @@ def test_edit_mode_skips_rebuilding_and_says_so(bridge, extension):
     try:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         scene.frame_set(3)
-        extension.projgrid_addon.handlers.frame_change_post(scene, depsgraph)
-        assert bridge.update_ocean(obj, scene, depsgraph).startswith("'Ocean' is in Edit Mode")
+        bridge.handlers.frame_change_post(scene, depsgraph)
+        update = bridge.frame.update_ocean
+        assert update(obj, scene, depsgraph).startswith("'Ocean' is in Edit Mode")
         obj.projgrid.resolution_x = 9
-        message = bridge.update_ocean(obj, scene, depsgraph, settings=obj.projgrid)
+        message = update(obj, scene, depsgraph, settings=obj.projgrid)
         assert "Edit Mode" in message
         assert any("Edit Mode" in text for _, text in stats_lines(obj, scene))
     finally:
@@ -397,14 +508,14 @@ def test_edit_mode_skips_rebuilding_and_says_so(bridge, extension):
 
 # ---- 7. Memory ----------------------------------------------------------------------------------
 
-def test_a_grid_too_big_for_memory_is_refused_before_allocating(bridge, monkeypatch):
+def test_a_grid_too_big_for_memory_is_refused_before_allocating(state, monkeypatch):
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
     memory = core("memory")
     monkeypatch.setattr(memory, "available_bytes", lambda: 64 * 2**20)
     obj.projgrid.resolution_x = obj.projgrid.resolution_y = 1025
-    message = bridge.STATE[obj.name_full]["message"]
+    message = state(obj).message
     assert message.startswith("a 1025x1025 grid needs about") and "viewport grid" in message
     assert len(obj.data.vertices) == 0
 
@@ -413,25 +524,25 @@ def test_out_of_memory_while_writing_leaves_no_half_built_mesh(bridge, monkeypat
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
-    real = bridge.corner_uv
+    real = bridge.mesh.corner_uv
 
     def fails(nx, ny, flipped):  # after the faces are made, before the UVs
         raise MemoryError
 
-    monkeypatch.setattr(bridge, "corner_uv", fails)
+    monkeypatch.setattr(bridge.mesh, "corner_uv", fails)
     obj.projgrid.resolution_x = 33  # the settings callback: nothing escapes
-    message = bridge.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(),
-                                  settings=obj.projgrid)
+    message = bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(),
+                                        settings=obj.projgrid)
     assert "out of memory" in message
     assert len(obj.data.vertices) == 0 and len(obj.data.polygons) == 0
-    monkeypatch.setattr(bridge, "corner_uv", real)
+    monkeypatch.setattr(bridge.mesh, "corner_uv", real)
     scene.frame_set(5)
     assert len(obj.data.vertices) == 33 * 129
 
 
 # ---- Smaller ones -------------------------------------------------------------------------------
 
-def test_marker_camera_switch_is_followed_by_frame_set(bridge):
+def test_marker_camera_switch_is_followed_by_frame_set(bridge, state):
     scene = bpy.context.scene
     first = add_camera(scene)
     second = add_camera(scene, location=(40.0, 0.0, 12.0), rotation=(70.0, 0.0, 90.0))
@@ -440,9 +551,9 @@ def test_marker_camera_switch_is_followed_by_frame_set(bridge):
     scene.timeline_markers.new("A", frame=1).camera = first
     scene.timeline_markers.new("B", frame=5).camera = second
     scene.frame_set(5)
-    built = bridge.STATE[obj.name_full]["key"][2]  # before any other evaluation rebuilds it
-    view = bridge.camera_for(scene, bpy.context.evaluated_depsgraph_get(), second)[0]
-    assert built == view.tobytes()
+    built = state(obj).camera[0]  # before any other evaluation rebuilds it
+    view = bridge.scene.camera_for(scene, bpy.context.evaluated_depsgraph_get(), second)[0]
+    assert np.array_equal(built, view)
 
 
 def test_each_ocean_shades_with_its_own_settings(bridge):
@@ -499,28 +610,28 @@ def test_refused_frames_are_named_in_the_render_log(capfd, tmp_path):
     assert len(lines) == 2 and "not built" in lines[0] and "panoramic" in lines[0]
 
 
-def test_scale_messages_say_what_is_wrong_and_what_to_do(bridge):
+def test_scale_messages_say_what_is_wrong_and_what_to_do(state):
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
     obj.scale = (1e-5, 1e-5, 1e-5)
     scene.frame_set(2)
-    assert bridge.STATE[obj.name_full]["message"] is None
+    assert state(obj).message is None
     assert len(obj.data.vertices) == 65 * 129
     obj.scale = (1.0, 0.0, 1.0)
     scene.frame_set(3)
-    message = bridge.STATE[obj.name_full]["message"]
+    message = state(obj).message
     assert "scale is zero on Y" in message and "give it a non-zero scale" in message
 
 
 @pytest.mark.parametrize("setting, value, advice", [
     ("amplitude", 1e4, "lower Amplitude"), ("projector_elevation", 1e4, "lower it")])
-def test_settings_at_their_maxima_warn_of_a_flat_sea(bridge, setting, value, advice):
+def test_settings_at_their_maxima_warn_of_a_flat_sea(state, setting, value, advice):
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
-    assert bridge.STATE[obj.name_full]["warning"] is None
+    assert state(obj).warning is None
     setattr(obj.projgrid, setting, value)
-    warning = bridge.STATE[obj.name_full]["warning"]
+    warning = state(obj).warning
     assert warning.startswith("no wave is in the geometry") and advice in warning
     assert any(advice in text for _, text in stats_lines(obj, scene))

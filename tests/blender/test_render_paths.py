@@ -51,7 +51,7 @@ def animated(tmp_path):
 
 def expected(scene, obj, bridge, frame):
     scene.frame_set(frame)
-    bridge.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
+    bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
     mesh = positions(obj.data).copy()
     scene.frame_set(frame)  # back to the viewport grid
     return mesh

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
-from projgrid_addon.camera import orthographic, perspective
+from projgrid_addon.camera import orthographic, perspective, view_matrix
 from projgrid_addon.projector import heading_vector
 
 
@@ -43,9 +43,7 @@ class Pose:
         b = np.radians(self.bearing)
         eye = np.array([self.distance * np.cos(b), self.distance * np.sin(b),
                         self.level + self.height])
-        view = np.eye(4)
-        view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
-        view[:3, 3] = -view[:3, :3] @ eye
+        view = view_matrix(eye, right, up, forward)
         shift = (self.shift_x, self.shift_y)
         if self.ortho_scale > 0:
             proj = orthographic(self.ortho_scale, self.aspect, self.near, self.far, shift)

@@ -48,7 +48,7 @@ def main(quick=False, only=None):
             image=(48, 27) if quick else (96, 54))),
         ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
         ("scene_update", lambda: blender_bench.scene_update_cost(
-            counts=(0, 200) if quick else (0, 100, 1000), repeats=3 if quick else 7)),
+            counts=(0, 1000) if quick else (0, 1000, 10000), repeats=3 if quick else 7)),
         ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
         ("memory", lambda: blender_bench.memory_cost(
             sizes=((257, 513),) if quick else ((257, 513), (1025, 2049), (2049, 4097)))),

@@ -6,7 +6,8 @@ import time
 import numpy as np
 
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
-from projgrid_addon.camera import perspective
+from projgrid_addon.band_limit import lod_for_spacing
+from projgrid_addon.camera import perspective, view_matrix
 
 # The fixed shots: (name, camera height, pitch, vertical fov) looking along +Y.
 SHOTS = (
@@ -24,10 +25,7 @@ def camera(height, pitch, fov, x=0.0, y=0.0, far=2e4):
     forward = np.array([0.0, np.cos(p), np.sin(p)])
     right = np.array([1.0, 0.0, 0.0])
     up = np.cross(right, forward)
-    eye = np.array([x, y, height])
-    view = np.eye(4)
-    view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
-    view[:3, 3] = -view[:3, :3] @ eye
+    view = view_matrix((x, y, height), right, up, forward)
     return Camera(view, perspective(np.radians(fov), ASPECT, 0.1, far))
 
 
@@ -221,11 +219,11 @@ def visible_extent(cam, hf):
 
 def world_grid_points(n, extent, wave_scale):
     """x, y of an n x n world-space grid over `extent` = (x0, x1, y0, y1), and its band limit
-    (one level of detail from its spacing, as `octave_weights` takes it)."""
+    (one level of detail from its spacing, band_limit.lod_for_spacing)."""
     x0, x1, y0, y1 = extent
     x, y = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
     spacing = max((x1 - x0), (y1 - y0)) / (n - 1)
-    return x, y, np.full(x.shape, np.log2(wave_scale / (2.0 * spacing)))
+    return x, y, np.full(x.shape, lod_for_spacing(wave_scale, spacing))
 
 
 def world_grid(n, hf, t_time, extent):

@@ -1,0 +1,96 @@
+"""The band limit (thesis §3.2): what the grid can hold at each vertex, the rest to the shader.
+
+A height field sampled by the grid aliases where a wave is shorter than two vertex spacings (the
+Nyquist limit). Each vertex therefore carries a level of detail
+
+    lod = log2(wave_scale / (2 spacing))
+
+and octave i (wavelength wave_scale / 2^i) is weighted clip(lod - i, 0, 1): kept whole while its
+wavelength is at least four spacings, faded out until it is two, as a mip-map blends its levels.
+The octaves some vertex dropped go to the shader as bump detail (`shader_octaves`), faded in by
+the same per-vertex lod, so the surface keeps its detail across the hand-over (§3.1.3).
+
+The spacing at a vertex is the larger grid step of the projector's homography there; it is
+exact per row along u and per column along v up to the w of the vertex (`grid_steps`), so a
+frame needs no per-vertex square roots or logarithms (`lod_from_w`, with `pseudo_log2`).
+"""
+
+import numpy as np
+
+from .scratch import scratch
+
+
+def octave_weights(lod, octave, out=None):
+    """Band-limit weight of `octave` at per-point level of detail `lod` (None: no band limit),
+    into `out` if given."""
+    if lod is None:
+        return None
+    w = np.subtract(lod, octave, out=out)
+    return np.clip(w, 0.0, 1.0, out=w)
+
+
+def lod_for_spacing(wave_scale, spacing):
+    """The level of detail of a grid `spacing` metres apart (a world grid's, for comparison)."""
+    return np.log2(wave_scale / (2.0 * np.asarray(spacing, dtype=np.float64)))
+
+
+def pseudo_log2(ratio, out=None):
+    """log2 exact at powers of two and linear between them, from the float32 bits (Mitchell),
+    into `out` (float32) if given.
+
+    With it an octave's weight fades linearly in the wavelength-to-spacing ratio between 2 and 4
+    spacings (a mip-map's linear blend), not linearly in octaves as the exact log2 would.
+    """
+    ratio = np.asarray(ratio)
+    if ratio.dtype != np.float32:
+        ratio32 = scratch("ratio32", ratio.shape, np.float32)
+        np.copyto(ratio32, ratio, casting="same_kind")
+        ratio = ratio32
+    if out is None:
+        out = np.empty(ratio.shape, np.float32)
+    np.copyto(out, ratio.view(np.int32), casting="unsafe")
+    out *= np.float32(2.0**-23)
+    out -= np.float32(127.0)
+    return out
+
+
+def grid_steps(c, left, right, u, wave_scale):
+    """The grid's steps per row along u and per column along v, in units of wave_scale / 2, each
+    still to be divided by w^2 at the vertex: (along_u (ny,), along_v (nx,), scale).
+
+    For p = h / w with h affine along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with
+    D = right - left: a per-row vector over w^2, and likewise per column along v. `c` are the
+    homogeneous grid corners, `left` and `right` the rows' homogeneous ends (projected_grid).
+    """
+    nx, ny = len(u), len(left)
+    d = right - left
+    along_u = np.hypot(d[:, 0] * left[:, 3] - left[:, 0] * d[:, 3],
+                       d[:, 1] * left[:, 3] - left[:, 1] * d[:, 3]) / (nx - 1)
+    iu = (1.0 - u)[:, None]
+    bottom = iu * c[0] + u[:, None] * c[1]  # (nx, 4): hom at v = 0
+    e = iu * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
+    along_v = np.hypot(e[:, 0] * bottom[:, 3] - bottom[:, 0] * e[:, 3],
+                       e[:, 1] * bottom[:, 3] - bottom[:, 1] * e[:, 3]) / (ny - 1)
+    return along_u, along_v, 2.0 / wave_scale
+
+
+def lod_from_w(steps, rows, hw, out):
+    """Per-vertex level of detail of the grid `rows` whose homogeneous w are `hw`, into `out`
+    (float32): log2 of w^2 over the larger step; `steps` from `grid_steps`."""
+    along_u, along_v, scale = steps
+    step = scratch("step", hw.shape, np.float64)
+    np.maximum(along_u[rows, None], along_v[None, :], out=step)
+    step *= scale
+    ratio = scratch("ratio", hw.shape, np.float64)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        np.multiply(hw, hw, out=ratio)
+        ratio /= step
+    return pseudo_log2(np.fmax(ratio, 0.0, out=ratio), out)  # a degenerate 0 / 0 keeps no octave
+
+
+def shader_octaves(lod, octaves):
+    """(first, count): the octaves some vertex left out, in part or whole, for the shader."""
+    if lod is None:
+        return octaves, 0
+    first = int(np.clip(np.floor(lod.min()), 0, octaves)) if lod.size else octaves
+    return first, octaves - first

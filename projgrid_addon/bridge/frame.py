@@ -1,0 +1,206 @@
+"""A frame of one ocean, in order: read the scene, build the grid, decide the effects, compute
+their fields, write our data (`update_appearance`). Everything the steps need is read first;
+nothing is written before the core has finished."""
+
+import time
+
+import bpy
+import numpy as np
+
+from ...shaders import water
+from ...shaders.nodes import assign
+from .. import Camera, build_grid, effects, memory, shading
+from . import companions, mesh, scene
+from .state import RUNTIME
+
+
+def update_ocean(obj, the_scene, depsgraph, render=None, view=None, settings=None):
+    """Rebuild the sea of ocean `obj` wherever it shows in `the_scene` (its settings just
+    edited, say); returns the first refusal message or None."""
+    messages = [update_appearance(app, the_scene, depsgraph, render, view, settings,
+                                  frame_change=False)
+                for app in scene.appearances(the_scene, only=obj)]
+    return next((m for m in messages if m), None)
+
+
+def update_scene(the_scene, depsgraph, render, frame_change):
+    """Rebuild every ocean showing in `the_scene`; in renders, one line in the render log for
+    each sea refused or built with a warning on this frame. `frame_change`: the frame changed
+    (so the timeline markers' camera switch applies)."""
+    apps = scene.appearances(the_scene)
+    if not render and not RUNTIME.rendering:
+        companions.remove_stale_stand_ins(the_scene, apps)
+    for app in apps:
+        message = update_appearance(app, the_scene, depsgraph, render=render,
+                                    frame_change=frame_change)
+        surface = surface_state(app.ocean)
+        warning = surface.warning if surface is not None else None
+        if render:
+            for kind, text in (("not built", message), ("warning", warning)):
+                if text:
+                    print(f"Projected Grid Ocean: frame {the_scene.frame_current}: "
+                          f"{app.ocean.name_full!r} {kind}: {text}", flush=True)
+
+
+def surface_state(obj):
+    """The state of the surface drawing ocean `obj`: its own, or its stand-in's."""
+    own = RUNTIME.peek(obj)
+    if own is not None and own.drawn_by:
+        drawer = bpy.data.objects.get((own.drawn_by, None))
+        return RUNTIME.peek(drawer) if drawer is not None else None
+    return own
+
+
+def update_appearance(app, the_scene, depsgraph, render=None, view=None, settings=None,
+                      frame_change=True):
+    """Rebuild the grid drawing `app` for the current frame; returns the refusal message or None.
+
+    `render` defaults to whether `depsgraph` is a render depsgraph: renders use the render camera
+    and resolution, the viewport the live preview's view if one runs, else the scene camera.
+    Settings are read from the evaluated ocean, so animated values are honoured in renders,
+    unless `settings` are given (a settings edit passes the values just set). The mesh written
+    is ours: the ocean's own, or a stand-in's (companions.surface_for).
+    """
+    if render is None:
+        render = depsgraph.mode == "RENDER"
+    ocean = app.ocean
+    making = not render and not RUNTIME.rendering
+
+    # Read: what draws it, whether it shows, and every input of the rebuild.
+    surface = companions.surface_for(app, the_scene, create=making)
+    RUNTIME.state(ocean).drawn_by = (None if surface is ocean
+                                     else RUNTIME.stand_ins.get(app.key))
+    if surface is not ocean and scene.writable(ocean) and scene.owns(ocean.data):
+        mesh.empty(ocean.data)  # its own mesh shows in every instance: the stand-ins draw it
+        companions.hide_companions(ocean)
+    if surface is None:
+        return RUNTIME.state(ocean).refused(
+            "its stand-in is made at the next viewport update or render start")
+    state = RUNTIME.state(surface)
+    if not scene.owns(surface.data):
+        return state.refused("the ocean's mesh was replaced; it is left untouched (Add Ocean "
+                             "makes a new one)")
+    if surface.data.is_editmode:
+        return state.refused(f"{surface.name!r} is in Edit Mode: the grid is rebuilt when you "
+                             "leave it")
+    shown = app.shown(depsgraph, render)
+    generation = scene.generation(the_scene)
+    restructured = state.generation != generation  # objects or collections changed since
+    hidden = companions.follow_visibility(surface, app, shown, render, depsgraph.view_layer,
+                                          relink=restructured)
+    state.generation = generation
+    if not shown:
+        state.key, state.message, state.warning, state.hidden = None, None, None, True
+        return None
+    settings = settings or ocean.evaluated_get(depsgraph).projgrid
+    try:
+        res = scene.resolution(settings, render)
+        camera = view or (None if render else RUNTIME.live_view)
+        camera = camera or scene.camera_for(the_scene, depsgraph, frame_change=frame_change)
+        world = app.world(depsgraph)
+        to_local = scene.ocean_axes(world)
+        level = world[2, 3]
+        t = scene.scene_time(the_scene)
+        hf = scene.height_field(settings)
+        cam = Camera(*camera)
+        sun = scene.sun_lamp(the_scene, depsgraph, render)
+        camera_key = cam.view.tobytes() + cam.proj.tobytes()
+        facts = scene.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
+                                  settings)
+        key = (render, res, camera_key, world.tobytes(), t,
+               tuple(getattr(settings, p) for p in scene.SETTINGS), surface.data.session_uid,
+               facts.key())
+        if key == state.key:
+            return None
+        memory.check_grid(res, len(surface.data.vertices) != res[0] * res[1],
+                          "render" if render else "viewport", large_only=True)
+        modes = {e: getattr(settings, e) for e in effects.EFFECTS}
+        volume_reach = (float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
+                        else 100.0)
+        sun_colour = tuple(sun.data.color) if sun is not None else None
+        per_frame = scene.seconds_per_frame(the_scene)
+
+        # Build (thesis §2.4), decide the effects, compute the fields of those on.
+        start = time.perf_counter()
+        result = build_grid(cam, hf, level=level, time=t, resolution=res,
+                            projector_elevation=settings.projector_elevation,
+                            origin=world[:3, 3])
+        decisions = effects.decide(modes, facts)
+        on = {e: d[0] for e, d in decisions.items()}
+        visible = result.visible
+        boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
+        foam = (effects.foam_field(result.surface, hf, t, settings.wind_speed, on["foam"], boxes,
+                                   level) if visible else None)
+        caustics = (effects.caustic_field(result.surface, facts)
+                    if visible and on["caustics"] else None)
+        godrays = (effects.godray_field(hf, t, cam.position, level, facts)
+                   if on["godrays"] else None)
+        detail = shading.detail(hf, result.shader_octaves)
+    except ValueError as e:
+        mesh.empty(surface.data)
+        return state.refused(str(e))
+    except MemoryError:
+        mesh.empty(surface.data)
+        return state.refused(f"out of memory building the {res[0]}x{res[1]} grid: lower the "
+                             "grid resolution")
+
+    # Write: our mesh, our material's inputs, our companions.
+    if surface is not ocean:  # the stand-in sits where the ocean shows, unrotated
+        assign(surface, location=tuple(world[:3, 3]), rotation_euler=(0.0, 0.0, 0.0),
+               scale=(1.0, 1.0, 1.0))
+        to_local = np.eye(3)
+    try:
+        mesh.write_grid(surface.data, result, to_local, foam, caustics)
+    except (MemoryError, RuntimeError) as e:
+        kind = "out of memory" if isinstance(e, MemoryError) else str(e)
+        return state.refused(f"writing the {res[0]}x{res[1]} grid failed ({kind}): lower the "
+                             "grid resolution")
+    state.key, state.message, state.hidden = key, None, False
+    state.vertices, state.grid = len(result.positions), result.without_surface()
+    state.ms = (time.perf_counter() - start) * 1e3
+    state.effects, state.resolution, state.render = decisions, res, render
+    state.camera = (cam.view, cam.proj)
+    state.warning = flat_warning(hf, result, settings)
+    in_use = effects_in_use()
+    material = water.material_of(surface.data)
+    if material is not None:
+        direction = facts.sun_direction
+        water.update(material, in_use, direction, sun_colour,
+                     direction is not None and direction[2] > 0.0, detail.first, detail.scale,
+                     detail.octaves, detail.roughness, detail.height,
+                     detail.time_rate * per_frame)
+    if making and restructured:
+        companions.ensure_companions(surface)
+        companions.own_material(surface)
+    body = surface.projgrid.water_body
+    if godrays is not None and body is not None and scene.owns(body):
+        body_material = water.material_of(body.data)
+        if body_material is not None:
+            water.update_godrays(body_material, *godrays)
+    companions.place_companions(surface, cam, level, hf.bound, on, in_use, volume_reach,
+                                hidden)
+    return None
+
+
+def effects_in_use():
+    """{effect: on}: on if on for any surface built, since every ocean shares the water group
+    whose branches are muted by it."""
+    on = dict.fromkeys(effects.EFFECTS, False)
+    for state in RUNTIME.surfaces.values():
+        for effect, (active, _) in (state.effects or {}).items():
+            on[effect] = on[effect] or active
+    return on
+
+
+def flat_warning(hf, result, settings):
+    """Why a built sea has no wave in its geometry, and what to change (None if it has)."""
+    if not result.visible or hf.amplitude == 0.0 or hf.octaves == 0 or result.lod.max() > 0.0:
+        return None
+    spacing = hf.wave_scale / 2.0 ** (float(result.lod.max()) + 1.0)
+    text = (f"no wave is in the geometry: the grid's vertices lie {spacing:.3g} m apart or "
+            f"more, beyond the longest wave ({hf.wave_scale:.3g} m); ")
+    if settings.projector_elevation > hf.bound:
+        return text + (f"Projector Elevation ({settings.projector_elevation:.3g} m) lifts the "
+                       "projector far above the waves: lower it")
+    return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {hf.bound:.3g} m high, "
+                   "so the projector sits that high: lower Amplitude or raise Wave Scale")

@@ -1,0 +1,481 @@
+"""Reading the scene: where oceans show, the rendering camera, the time, the sun, the objects.
+
+Nothing here writes Blender data. What a viewport update did not touch is kept from the last
+one (`SceneCache`): the list of oceans, where they show, the sun lamp, and the objects' world
+boxes, so an update unrelated to the ocean costs little however big the scene is. Renders read
+everything afresh from the render's own evaluation.
+"""
+
+from dataclasses import dataclass, field
+
+import bpy
+import numpy as np
+
+from ...shaders.nodes import TAG
+from .. import HeightField, effects, shading
+from ..camera import blender_projection, rigid_view
+from ..projected_grid import check_resolution
+from .state import RUNTIME
+
+STAND_IN = "projgrid_stand_in"  # ID property of a stand-in: the appearance key it draws
+# Object types with geometry that can stand in, on or under the water.
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME",
+                  "GPENCIL", "GREASEPENCIL"}
+# Settings whose value is part of a build's key (every input of the rebuild).
+SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
+            "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
+            "projector_elevation", "noise", "wind_speed", *effects.EFFECTS)
+# The effects whose AUTO decision looks at the objects in view (and the ON ones that use them).
+OBJECT_EFFECTS = ("contact_foam", "refraction", "caustics", "local_reflections")
+
+
+def owns(id_block):
+    return id_block is not None and bool(id_block.get(TAG))
+
+
+def local(id_block):
+    """Data of this file: neither linked from a library nor a library override."""
+    return id_block.library is None and id_block.override_library is None
+
+
+def writable(obj):
+    """Whether the ocean's own mesh is ours to write: a local object with a local mesh (a linked
+    ocean's or a library override's mesh belongs to its library, which we never write)."""
+    return local(obj) and obj.data is not None and local(obj.data)
+
+
+def height_field(settings):
+    """The core HeightField for (possibly evaluated) settings."""
+    return HeightField(amplitude=settings.amplitude, wave_scale=settings.wave_scale,
+                       octaves=settings.octaves, roughness=settings.roughness,
+                       speed=settings.speed, seed=settings.seed,
+                       method=settings.noise.lower())
+
+
+def ocean_objects(scene):
+    """The oceans placed in `scene` itself."""
+    return [obj for obj in scene.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
+
+
+# ---- What is kept between viewport updates ----------------------------------------------------
+
+@dataclass
+class SceneCache:
+    """A scene's facts kept between viewport updates (rebuilt when `valid` is False)."""
+
+    valid: bool = False
+    generation: int = 0  # how many times it was made: companions follow collections anew
+    counts: tuple = ()  # objects, collections and scenes in the file when it was made
+    oceans: list = field(default_factory=list)
+    appearances: list = field(default_factory=list)
+    sun: object = None
+    boxes: object = None  # ObjectBoxes, made on first use
+
+
+def _file_cache(scene):
+    return RUNTIME.scenes.setdefault(scene.session_uid, SceneCache())
+
+
+def note_updates(scene, updates, object_count):
+    """Let the cache of `scene` follow a depsgraph update: structural changes (objects or
+    collections added, removed, relinked) drop it; moved, reshaped or hidden objects refresh
+    their boxes; a lamp's change drops the sun. Returns whether the update can matter to an
+    ocean: not when it only touched objects that stay out of view and unmirrored, say, or a
+    material of the user's (`updates`: the IDs of depsgraph.updates; `object_count`:
+    len(bpy.data.objects), -1 if not read)."""
+    cache = _file_cache(scene)
+    counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
+    if cache.counts != counts and object_count >= 0:
+        cache.valid, cache.counts = False, counts
+    relevant = not cache.valid
+    for id_block in updates:
+        if isinstance(id_block, bpy.types.Collection):
+            cache.valid, relevant = False, True
+        elif isinstance(id_block, bpy.types.Object):
+            relevant = _object_changed(cache, id_block.original) or relevant
+        elif isinstance(id_block, (bpy.types.Scene, bpy.types.Camera, bpy.types.Light)):
+            relevant = True
+            if isinstance(id_block, bpy.types.Light):
+                cache.sun = None
+    return relevant
+
+
+def _object_changed(cache, obj):
+    """Whether a changed object can matter to an ocean; its box is read again if it has one."""
+    if obj.type in ("CAMERA", "LIGHT"):
+        if obj.type == "LIGHT":
+            cache.sun = None
+        return True
+    if obj.type == "EMPTY":
+        return obj.instance_type == "COLLECTION"
+    if obj.type not in GEOMETRY_TYPES:
+        return False
+    if not cache.valid or cache.boxes is None:
+        return True
+    return cache.boxes.refresh(obj)
+
+
+def _valid(scene):
+    """The scene's cache, rebuilt if dropped or if an object it holds was deleted."""
+    cache = _file_cache(scene)
+    if cache.valid:
+        try:
+            for obj in cache.oceans:
+                obj.name_full  # noqa: B018 (raises ReferenceError once deleted)
+        except ReferenceError:
+            cache.valid = False
+    if not cache.valid:
+        cache.oceans = [o for o in bpy.data.objects if o.type == "MESH" and o.projgrid.is_ocean]
+        cache.appearances = _appearances(scene, cache.oceans)
+        cache.sun, cache.boxes, cache.valid = None, None, True
+        cache.generation += 1
+    return cache
+
+
+def generation(scene):
+    """A number that changes whenever the scene's structure may have (see SceneCache)."""
+    return _valid(scene).generation
+
+
+def drop_caches():
+    """Forget everything kept between updates (after an undo or a load)."""
+    RUNTIME.scenes.clear()
+
+
+# ---- Where oceans show --------------------------------------------------------------------
+
+@dataclass
+class Appearance:
+    """One place an ocean shows in a scene: in the scene or a background set of it (`chain`
+    empty), or inside collection instances (`chain`: (instancer, instanced collection) pairs,
+    outermost first)."""
+
+    ocean: object
+    scene: object
+    chain: tuple = ()
+    count: int = 1  # the ocean's appearances in the scene
+
+    @property
+    def key(self):
+        """What a stand-in of ours draws: the scene it renders in, the ocean's and the
+        instancers' full names."""
+        names = (self.scene, self.ocean, *(i for i, _ in self.chain))
+        return "|".join(o.name_full for o in names)
+
+    @property
+    def needs_stand_in(self):
+        """Drawn by a stand-in of ours: the ocean's mesh is not ours to write, it shows more
+        than once (one mesh cannot be right in two places), or it shows inside an instance
+        (whose transform its own companions would take too)."""
+        return self.count > 1 or bool(self.chain) or not writable(self.ocean)
+
+    @property
+    def objects(self):
+        """The ocean and its instancers: the objects whose visibility decides whether it shows."""
+        return (self.ocean, *(i for i, _ in self.chain))
+
+    def world(self, depsgraph):
+        """The ocean's evaluated world matrix where it shows (float64)."""
+        m = np.eye(4)
+        for instancer, collection in self.chain:
+            offset = np.eye(4)
+            offset[:3, 3] = -np.array(collection.instance_offset, dtype=np.float64)
+            m = m @ np.array(instancer.evaluated_get(depsgraph).matrix_world,
+                             dtype=np.float64) @ offset
+        return m @ np.array(self.ocean.evaluated_get(depsgraph).matrix_world, dtype=np.float64)
+
+    @property
+    def top(self):
+        """The outermost object: the ocean itself, or the outermost instancer."""
+        return self.chain[0][0] if self.chain else self.ocean
+
+    def shown(self, depsgraph, render):
+        """Whether this evaluation draws it: each object on the way is in the depsgraph (so
+        visible in renders or viewports and not in an excluded collection), and in the viewport
+        the outermost one is not hidden in the depsgraph's view layer."""
+        if not all(o.evaluated_get(depsgraph).is_evaluated for o in self.objects):
+            return False
+        return render or not hidden_in(self.top, depsgraph.view_layer)
+
+    def layer_flags(self, view_layer):
+        """(holdout, indirect only) of the outermost object in `view_layer`, its collections'
+        flags included."""
+        try:
+            return (self.top.holdout_get(view_layer=view_layer) or self.ocean.is_holdout,
+                    self.top.indirect_only_get(view_layer=view_layer))
+        except RuntimeError:  # not in this view layer (a background set's object)
+            return self.ocean.is_holdout, False
+
+
+def hidden_in(obj, view_layer):
+    """Whether `obj` is hidden (the eye) in `view_layer`; False where it is not in it."""
+    try:
+        return obj.hide_get(view_layer=view_layer)
+    except RuntimeError:
+        return False
+
+
+def _placements(obj, scenes, parents, depth=0):
+    """The instancer chains through which `obj` shows in `scenes` (the empty chain: directly)."""
+    chains = []
+    users = obj.users_scene
+    if any(s in users for s in scenes):
+        chains.append(())
+    if depth >= 8:  # instances nested deeper than this are left out
+        return chains
+    holders, todo = [], list(obj.users_collection)
+    while todo:
+        c = todo.pop()
+        if c not in holders:
+            holders.append(c)
+            todo.extend(parents().get(c.as_pointer(), ()))
+    for collection in holders:
+        for instancer in collection.users_dupli_group:
+            if (instancer.instance_type != "COLLECTION"
+                    or instancer.instance_collection != collection):
+                continue  # a collection pointer kept by an object that no longer instances
+            for outer in _placements(instancer, scenes, parents, depth + 1):
+                chains.append(outer + ((instancer, collection),))
+    return chains
+
+
+def _appearances(scene, oceans):
+    scenes = [scene]
+    while scenes[-1].background_set is not None and scenes[-1].background_set not in scenes:
+        scenes.append(scenes[-1].background_set)
+    table = {}
+
+    def parents():  # child collection -> its parents, built when first needed
+        if not table:
+            table[None] = None
+            for collection in bpy.data.collections:
+                for child in collection.children:
+                    table.setdefault(child.as_pointer(), []).append(collection)
+        return table
+
+    found = []
+    for ocean in oceans:
+        chains = _placements(ocean, scenes, parents)
+        found += [Appearance(ocean, scene, chain, len(chains)) for chain in chains]
+    return found
+
+
+def appearances(scene, only=None):
+    """Every place an ocean (or only `only`) shows in `scene`, its background sets included."""
+    found = _valid(scene).appearances
+    return [a for a in found if a.ocean == only] if only is not None else list(found)
+
+
+# ---- The camera and the time -------------------------------------------------------------------
+
+def render_size(scene):
+    r = scene.render
+    pct = r.resolution_percentage / 100.0
+    return (max(1, round(r.resolution_x * pct)), max(1, round(r.resolution_y * pct)),
+            r.pixel_aspect_x, r.pixel_aspect_y)
+
+
+def scene_camera(scene, frame_change=True):
+    """The camera this frame renders with. On a frame change, the timeline markers' camera
+    switch, which Blender applies to `scene.camera` only after frame_change_post
+    (BKE_scene_camera_switch_find); between frames, the camera the user set."""
+    markers = [(m.frame, m.camera) for m in scene.timeline_markers
+               if m.camera is not None and not m.camera.hide_render]
+    if not markers or not frame_change:
+        return scene.camera
+    past = [m for m in markers if m[0] <= scene.frame_current]
+    if past:
+        return max(past, key=lambda m: m[0])[1]
+    return min(markers, key=lambda m: m[0])[1]
+
+
+def camera_for(scene, depsgraph, camera=None, frame_change=True):
+    """(view, proj) float64 of the camera rendering this frame (ValueError with a user message
+    if none or not usable), built from the camera's own settings: Blender's float32 matrix
+    loses the far corners for clip ranges wider than about 1e7 (camera.blender_projection)."""
+    cam = camera or scene_camera(scene, frame_change)
+    if cam is None:
+        raise ValueError("the scene has no camera (set one, or use Live Preview)")
+    cam_eval = cam.evaluated_get(depsgraph)
+    x, y, sx, sy = render_size(scene)
+    view = rigid_view(cam_eval.matrix_world)
+    if cam_eval.type != "CAMERA":  # a lamp or empty as the camera: Blender's defaults
+        proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
+        return view, np.array(proj, dtype=np.float64)
+    data = cam_eval.data
+    if data.type == "PANO":
+        raise ValueError(f"camera {cam.name!r} is panoramic; the projected grid needs a "
+                         "perspective or orthographic camera")
+    try:
+        proj = blender_projection(data.type == "ORTHO", data.lens, data.ortho_scale,
+                                  (data.sensor_width, data.sensor_height), data.sensor_fit,
+                                  (data.shift_x, data.shift_y),
+                                  (data.clip_start, data.clip_end), (x, y), (sx, sy))
+    except ValueError as e:
+        raise ValueError(f"camera {cam.name!r}: {e}") from None
+    return view, proj
+
+
+def scene_time(scene):
+    """Seconds at the current (sub)frame."""
+    r = scene.render
+    return (scene.frame_current + scene.frame_subframe) * r.fps_base / r.fps
+
+
+def seconds_per_frame(scene):
+    return scene.render.fps_base / scene.render.fps
+
+
+def ocean_axes(world):
+    """The inverse of an ocean's linear transform (ValueError saying what to change if none)."""
+    linear = world[:3, :3]
+    if not np.all(np.isfinite(world)):
+        raise ValueError("the ocean object's transform is not finite: reset its location, "
+                         "rotation and scale")
+    lengths = np.sqrt((linear * linear).sum(axis=0))
+    zero = [axis for axis, length in zip("XYZ", lengths, strict=True) if length == 0.0]
+    # Independent axes: the volume they span is not negligible against their lengths.
+    if zero or abs(np.linalg.det(linear)) <= 1e-12 * lengths.prod():
+        axes = "/".join(zero) or "one axis"
+        raise ValueError(f"the ocean object's scale is zero on {axes}: give it a non-zero scale "
+                         "(the sea ignores its scale and rotation, but needs them invertible)")
+    return np.linalg.inv(linear)
+
+
+# ---- The sun and the objects -------------------------------------------------------------------
+
+def sun_lamp(scene, depsgraph, render):
+    """The first sun lamp of the scene that renders (evaluated), or None; in the viewport the
+    one found at the last structural change, unless a lamp changed since."""
+    if render:
+        found = _find_sun(scene)
+    else:
+        cache = _valid(scene)
+        if cache.sun is None:
+            cache.sun = _find_sun(scene) or False
+        found = cache.sun or None
+    return found.evaluated_get(depsgraph) if found is not None else None
+
+
+def _find_sun(scene):
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
+            return obj
+    return None
+
+
+class ObjectBoxes:
+    """World bounding boxes of a scene's visible geometry (other than oceans and ours), and
+    which are in view or mirrored in view for the last camera, refreshed row by row; the facts'
+    objects are kept while nothing in view or mirrored changes (`version`)."""
+
+    def __init__(self, scene, render, depsgraph=None):
+        self.render, self.depsgraph = render, depsgraph
+        self.objects = [o for o in scene.objects if self._counts(o)]
+        self.names = [o.name for o in self.objects]
+        self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
+        self.boxes = np.zeros((len(self.objects), 8, 3))
+        self.hidden = np.zeros(len(self.objects), dtype=bool)
+        self._local = np.empty(24, dtype=np.float32)
+        self.seen_for = self.seen_key = None  # (camera, level) the in-view flags are for
+        self.version, self._facts = 0, (None, None)
+        for i in range(len(self.objects)):
+            self._read(i)
+
+    def _counts(self, obj):
+        return (obj.type in GEOMETRY_TYPES and not obj.projgrid.is_ocean and not owns(obj))
+
+    def _read(self, i):
+        obj = self.objects[i]
+        self.names[i] = obj.name
+        if self.depsgraph is not None:
+            obj = obj.evaluated_get(self.depsgraph)
+        self.hidden[i] = obj.hide_render if self.render else obj.hide_viewport
+        obj.bound_box.foreach_get(self._local)  # the evaluated geometry's box
+        world = np.array(obj.matrix_world, dtype=np.float64)
+        self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
+        if self.seen_for is not None:
+            self._see(np.array([i]))
+
+    def refresh(self, obj):
+        """Re-read an object an update touched; returns whether it may matter to the facts:
+        it is in view or mirrored in view, before or after, or its visibility changed (an
+        unknown object is new: the cache is rebuilt at the next structural change)."""
+        i = self.index.get(obj.session_uid)
+        if i is None:
+            return True
+        before = self._flags(i)
+        self._read(i)
+        after = self._flags(i)
+        # Entered or left the view, or shown or hidden; or moved while seen.
+        matters = before != after or ((before[0] or before[1]) and not before[2])
+        self.version += matters
+        return matters
+
+    def _flags(self, i):
+        if self.seen_for is None:
+            return (True, True, bool(self.hidden[i]))
+        return (bool(self.in_view[i]), bool(self.mirrored[i]), bool(self.hidden[i]))
+
+    def _see(self, rows):
+        camera, level = self.seen_for
+        boxes = self.boxes[rows]
+        mirrored = boxes * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * level)
+        seen = effects.boxes_in_view(camera, np.concatenate([boxes, mirrored]))
+        self.in_view[rows], self.mirrored[rows] = seen.reshape(2, -1)
+
+    def facts_objects(self, camera, level, key):
+        """SceneObjects (effects.py) of the boxes in view or mirrored in view, heights relative
+        to the water `level`; the flags are recomputed for all only when (camera, level), whose
+        comparable form is `key`, changed."""
+        if self.seen_key != key:
+            self.seen_for, self.seen_key = (camera, level), key
+            self.in_view = np.zeros(len(self.objects), dtype=bool)
+            self.mirrored = np.zeros(len(self.objects), dtype=bool)
+            if self.objects:
+                self._see(np.arange(len(self.objects)))
+            self.version += 1
+        version, facts = self._facts
+        if version == self.version:
+            return facts
+        rows = np.flatnonzero((self.in_view | self.mirrored) & ~self.hidden)
+        z = self.boxes[rows, :, 2] - level
+        objects = [effects.SceneObject(self.names[i], float(lo), float(hi),
+                                       bool(self.in_view[i]), self.boxes[i],
+                                       bool(self.mirrored[i]))
+                   for i, lo, hi in zip(rows, z.min(axis=1), z.max(axis=1), strict=True)]
+        facts = (objects, effects.objects_key(objects))
+        self._facts = (self.version, facts)
+        return facts
+
+
+def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, settings):
+    """effects.SceneFacts of this frame: camera against the water, the objects in view, the
+    sun (`sun`: the evaluated lamp or None) and the wind. Heights are relative to the level."""
+    elevation = direction = None
+    if sun is not None:
+        direction = tuple(shading.sun_direction(sun.matrix_world))
+        elevation = shading.sun_elevation(direction)
+    needs_objects = (any(getattr(settings, e) == "AUTO" for e in OBJECT_EFFECTS)
+                     or any(getattr(settings, e) == "ON" for e in ("contact_foam", "caustics")))
+    objects, objects_key = [], None
+    if needs_objects:
+        if render:
+            boxes = ObjectBoxes(scene, True, depsgraph)
+        else:
+            cache = _valid(scene)
+            if cache.boxes is None:
+                cache.boxes = ObjectBoxes(scene, False)
+            boxes = cache.boxes
+        objects, objects_key = boxes.facts_objects(camera, level, (camera_key, level))
+    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
+                              wind_speed=settings.wind_speed, sun_elevation=elevation,
+                              objects=objects, sun_direction=direction,
+                              objects_key=objects_key)
+
+
+def resolution(settings, render):
+    """The grid resolution the settings ask for (ValueError naming it if out of range)."""
+    if render:
+        return check_resolution((settings.render_resolution_x, settings.render_resolution_y))
+    return check_resolution((settings.resolution_x, settings.resolution_y))

@@ -1,0 +1,122 @@
+"""`obj.projgrid`: an ocean's settings (all animatable and overridable), registered on Object."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+
+from .. import effects
+from . import frame
+from .state import RUNTIME
+
+OVERRIDABLE = {"LIBRARY_OVERRIDABLE"}  # a library override of an ocean keeps its own settings
+
+
+def _settings_changed(self, context):
+    """Rebuild at once with the values just set (the evaluated copy is updated only later)."""
+    obj = self.id_data
+    if context.scene is not None and obj.projgrid.is_ocean and not RUNTIME.rendering:
+        frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get(), settings=self)
+
+
+def _mode(effect, description):
+    return EnumProperty(
+        name=effect.replace("_", " ").title(), default="AUTO", update=_settings_changed,
+        description=description,
+        override=OVERRIDABLE,
+        items=(("AUTO", "Auto", "On when the scene calls for it, decided each frame"),
+               ("ON", "On", "Always on"), ("OFF", "Off", "Always off: costs nothing")))
+
+
+def _active_effects(self):
+    """Bit set of the effects on for the last built frame (read-only `active_effects`)."""
+    state = frame.surface_state(self.id_data)
+    decisions = (state.effects if state is not None else None) or {}
+    return sum(1 << i for i, e in enumerate(effects.EFFECTS) if decisions.get(e, (False,))[0])
+
+
+def _int(name, description, default, lo, hi, soft_hi=None):
+    return IntProperty(name=name, description=description, default=default, min=lo, max=hi,
+                       soft_max=soft_hi or hi, update=_settings_changed, override=OVERRIDABLE)
+
+
+def _float(name, description, default, lo, hi, soft_hi, unit="NONE", **kw):
+    return FloatProperty(name=name, description=description, default=default, min=lo, max=hi,
+                         soft_max=soft_hi, unit=unit, update=_settings_changed,
+                         override=OVERRIDABLE, **kw)
+
+
+class ProjectedGridSettings(bpy.types.PropertyGroup):
+    """`obj.projgrid`: the ocean's settings (all animatable) and the effects on this frame."""
+
+    is_ocean: BoolProperty(name="Is Ocean", default=False, options={"HIDDEN"})
+    resolution_x: _int("Resolution X", "Grid vertices across the screen in the viewport",
+                       65, 2, 8193, 1025)
+    resolution_y: _int("Resolution Y", "Grid vertices up the screen in the viewport",
+                       129, 2, 8193, 2049)
+    render_resolution_x: _int("Render X", "Grid vertices across the screen in renders",
+                              257, 2, 8193, 2049)
+    render_resolution_y: _int("Render Y", "Grid vertices up the screen in renders",
+                              513, 2, 8193, 4097)
+    amplitude: _float("Amplitude", "Height of the largest waves (the bound is the sum over "
+                      "octaves)", 0.5, 0.0, 1e4, 10.0, "LENGTH")
+    wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, 0.01, 1e5, 500.0,
+                       "LENGTH")
+    octaves: _int("Octaves", "Noise octaves, each half the wavelength of the one before",
+                  8, 0, 24)
+    roughness: _float("Roughness", "Amplitude ratio between octaves (alpha)", 0.5, 0.0, 2.0,
+                      1.0)
+    speed: _float("Speed", "Time scale of the animation", 1.0, -100.0, 100.0, 10.0)
+    seed: _int("Seed", "Noise seed", 0, 0, 2**31 - 1, 1000)
+    projector_elevation: _float("Projector Elevation", "Extra height of the projector above "
+                                "the waves (thesis §2.5)", 0.0, 0.0, 1e4, 100.0, "LENGTH")
+    noise: EnumProperty(
+        name="Noise", default="FAST", update=_settings_changed, override=OVERRIDABLE,
+        description="How heights are evaluated (docs/benchmarks.md has the cost and the error)",
+        items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
+               ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
+    wind_speed: _float("Wind Speed", "Wind at 10 m above the sea; sets the whitecap coverage of "
+                       "the foam (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+    foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
+    contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")
+    underwater: _mode("underwater", "Snell's window and absorption fog with the camera below "
+                      "the surface")
+    refraction: _mode("refraction", "Submerged objects seen through the surface, dimmed and "
+                      "tinted with depth")
+    caustics: _mode("caustics", "Sunlight focused by the waves onto submerged geometry")
+    godrays: _mode("godrays", "Shafts of sunlight seen from under the water")
+    local_reflections: _mode("local_reflections", "Reflections of objects above the water "
+                             "(sky only without them)")
+    sun_glint: _mode("sun_glint", "The sun's highlight on the waves")
+    water_body: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                description="Our water body volume (underwater, refraction)")
+    shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                   description="Our object casting the water's caustic shadow")
+    reflection_probe: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                      description="Our sphere probe capturing the mirror image "
+                                      "(local reflections)")
+    render_mesh: PointerProperty(type=bpy.types.Mesh, options={"HIDDEN"},
+                                 description="Our mesh drawn while rendering: its render grid's "
+                                 "topology is kept from render to render")
+    source: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                            description="On a stand-in of ours: the ocean whose sea it draws "
+                            "(a linked, overridden or instanced ocean we may not write)")
+    active_effects: EnumProperty(
+        name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
+        description="The effects on for the current frame (read-only)",
+        items=[(e.upper(), e.replace("_", " ").title(), "", 1 << i)
+               for i, e in enumerate(effects.EFFECTS)])
+
+
+
+classes = (ProjectedGridSettings,)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
+
+
+def register():
+    _register_classes()
+    bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings, override=OVERRIDABLE)
+
+
+def unregister():
+    del bpy.types.Object.projgrid
+    _unregister_classes()
+    RUNTIME.clear()
