@@ -7,7 +7,7 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-core test-blender test-blender-4.5 lint package demo bench clean
+.PHONY: test test-fast test-core test-blender test-blender-4.5 lint package demo bench clean
 
 define make_venv
 	@py="$$(tools/find-python $(1))" && test -n "$$py" || { echo "Python $(1) not found"; exit 1; }; \
@@ -35,6 +35,11 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
 test: lint test-blender-4.5
 	$(PY) -m pytest
+
+# The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
+# grid) on 5.2, in about a minute.
+test-fast: $(VENV)/.blender
+	$(PY) -m pytest -m "not slow"
 
 test-core: $(VENV)/.core
 	$(PY) -m pytest tests/core

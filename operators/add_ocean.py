@@ -2,9 +2,27 @@
 
 import bpy
 
-from ..projgrid_addon.bridge import companions, frame, handlers
+from ..projgrid_addon import sea_states
+from ..projgrid_addon.bridge import companions, frame, handlers, settings
 from ..shaders import sky, water
 from ..shaders.nodes import TAG
+
+# A new ocean is the spectral sea at this Beaufort force: a moderate breeze, 1 m waves.
+DEFAULT_FORCE = 4
+
+
+def apply_sea_state(s, force):
+    """Set the settings `s` (obj.projgrid) to Beaufort `force`, with one rebuild after (by the
+    caller): the spectral sea's wind, fetch, choppiness and swell, and the noise's height and
+    wavelength for the same sea."""
+    preset = sea_states.sea_state(force, s.wind_direction)
+    with settings.batch():
+        s.height_source = "SPECTRUM"
+        s.wind_speed, s.fetch, s.choppiness = preset.wind_speed, preset.fetch, preset.choppiness
+        s.swell_height, s.swell_period = preset.swell_height, preset.swell_period
+        s.swell_direction = sea_states.swell_direction(s.wind_direction)
+        s.amplitude, s.wave_scale = preset.amplitude, max(preset.wave_scale, 0.01)
+    return preset
 
 
 def has_sun(scene):
@@ -31,6 +49,7 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         obj = bpy.data.objects.new("Ocean", mesh)
         obj.projgrid.is_ocean = True
         obj.location = scene.cursor.location
+        apply_sea_state(obj.projgrid, DEFAULT_FORCE)
         # Grid vertices do not correspond across frames: no deformation motion blur.
         if hasattr(obj, "cycles"):
             obj.cycles.use_deform_motion = False

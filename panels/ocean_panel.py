@@ -7,13 +7,7 @@ from ..projgrid_addon import effects
 from ..projgrid_addon.bridge import frame, scene
 from ..projgrid_addon.bridge.state import RUNTIME
 
-
-def active_ocean(context):
-    obj = context.active_object
-    if obj is not None and obj.type == "MESH" and obj.projgrid.is_ocean:
-        return obj
-    oceans = scene.ocean_objects(context.scene) if context.scene else []
-    return oceans[0] if oceans else None
+active_ocean = scene.active_ocean
 
 
 def stats_lines(obj, the_scene):
@@ -95,10 +89,28 @@ class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
 
     def draw(self, context):
         s = self.settings(context)
-        col = self.layout.column()
-        for prop in ("amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-                     "wind_speed", "noise"):
-            col.prop(s, prop)
+        layout = self.layout
+        row = layout.row(align=True)
+        row.label(text="Sea State")
+        for force in (2, 4, 6, 8, 10):
+            row.operator("projgrid.sea_state", text=str(force)).beaufort = force
+        col = layout.column()
+        col.prop(s, "height_source")
+        col.prop(s, "wind_speed")
+        col.prop(s, "wind_direction")
+        col.prop(s, "choppiness")
+        if s.height_source == "SPECTRUM":
+            col.prop(s, "spectrum")
+            col.prop(s, "fetch")
+            col = layout.column(heading="Swell")
+            col.prop(s, "swell_height", text="Height")
+            col.prop(s, "swell_direction", text="Direction")
+            col.prop(s, "swell_period", text="Period")
+            layout.prop(s, "seed")
+        else:
+            for prop in ("amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
+                         "noise"):
+                col.prop(s, prop)
 
 
 class VIEW3D_PT_projgrid_grid(_OceanSubPanel, bpy.types.Panel):

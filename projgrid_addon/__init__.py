@@ -14,9 +14,13 @@ from .projected_grid import (
     snapped_origin,
 )
 from .projector import Projector, aim_projector
+from .sea_states import sea_state
+from .spectral_field import SpectralField
+from .spectrum import SeaState
 
 __all__ = [
     "Camera", "GridResult", "corner_uv", "HeightField", "NoiseTiles", "Projector", "aim_projector",
     "bound_planes", "build_grid", "grid_topology", "grid_uv", "look_at", "memory", "octave_weights",
-    "orthographic", "perspective", "snapped_origin", "visible_volume_points",
+    "orthographic", "perspective", "SeaState", "sea_state", "snapped_origin", "SpectralField",
+    "visible_volume_points",
 ]

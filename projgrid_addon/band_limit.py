@@ -29,6 +29,20 @@ def octave_weights(lod, octave, out=None):
     return np.clip(w, 0.0, 1.0, out=w)
 
 
+def row_jobs(lod2, level):
+    """Where a band at octave `level` is needed in a (rows, columns) level-of-detail array:
+    (rows, weighted), the contiguous rows between the first and the last where some point
+    keeps it and whether some point there keeps it only in part, or None where none keeps it
+    (`lod2` None: every row, whole). Contiguous slices: no gathers or scatters."""
+    if lod2 is None:
+        return slice(None), False
+    needed = np.flatnonzero(lod2.max(axis=1) > level)
+    if needed.size == 0:
+        return None
+    rows = slice(needed[0], needed[-1] + 1)
+    return rows, bool(lod2[rows].min() < level + 1)
+
+
 def lod_for_spacing(wave_scale, spacing):
     """The level of detail of a grid `spacing` metres apart (a world grid's, for comparison)."""
     return np.log2(wave_scale / (2.0 * np.asarray(spacing, dtype=np.float64)))

@@ -29,6 +29,8 @@ MODES = ("AUTO", "ON", "OFF")
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
+# Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
+NO_FOAM = 1e6
 # Absorption a (1/m) per RGB channel of clear coastal sea water (Fleck Eq. 17): red light is
 # gone after a few metres, blue travels tens.
 ABSORPTION = (0.45, 0.09, 0.06)
@@ -175,30 +177,83 @@ def boxes_in_view(camera, corners):
     return ~outside.all(axis=2).any(axis=0)
 
 
-def foam_threshold(height_field, time, coverage, samples=4096):
-    """The height a `coverage` share of the sea exceeds at `time` (crests, Jensen and Golias).
-
-    Estimated on a fixed pattern of points over one tile of the first octave (1024 wavelengths
-    square), so it depends on the settings and the time only.
-    """
-    coverage = min(max(float(coverage), 1e-6), 1.0)
+def sea_sample(span, samples=4096):
+    """x, y of a fixed pattern of `samples` points over a square `span` metres across: a
+    rotated lattice, which spreads them over the square without lining up with a texture."""
     n = int(np.sqrt(samples))
     k = (np.arange(n) + 0.5) / n
-    # A rotated lattice spreads the points over the tile without lining up with the noise grid.
     gx, gy = np.meshgrid(k, k)
-    span = 32.0 * height_field.wave_scale
-    x = (gx + 0.37 * gy) % 1.0 * span
-    y = (gy + 0.61 * gx) % 1.0 * span
-    h = height_field.heights(x.ravel(), y.ravel(), time)
-    return float(np.quantile(h, 1.0 - coverage))
+    return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
 
 
-def foam_amount(heights, threshold, softness):
-    """Per-vertex foam in [0, 1]: 0 below `threshold`, rising to 1 over `softness` metres."""
-    heights = np.asarray(heights)
-    softness = max(float(softness), 1e-9)
-    foam = np.subtract(heights, threshold, dtype=np.float32)
-    foam *= np.float32(1.0 / softness)
+def foam_thresholds(source, time, coverage, samples=16384):
+    """Whitecap thresholds of a height source's foam cue (its `foam_cue`: the height for the
+    noise, how far the choppy surface folds for the spectrum), at each of its band limits
+    (`foam_levels`): on a fixed pattern of sea points, the mean foam is `coverage` at the
+    band limit they are evaluated with, so a vertex's foam covers the wind's share of the sea
+    whatever detail its geometry holds (Jensen and Golias put foam where the surface is high
+    or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, spreads):
+    a spread is the cue's standard deviation there. Calibrated at whole seconds and
+    interpolated between (the sea's statistics hardly change in a second), so a frame is a
+    function of the settings and its time alone: a farm splitting frames renders the same
+    foam."""
+    coverage = min(max(float(coverage), 1e-6), 1.0)
+    t0 = float(np.floor(time))
+    a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + 1.0))
+    f = time - t0
+    return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
+
+
+def _calibration(source, time, coverage, samples):
+    cache = source.__dict__.setdefault("_foam_calibrations", {})
+    key = (time, coverage, samples)
+    if key not in cache:
+        x, y = sea_sample(source.foam_span, samples)
+        xy = np.stack([x, y])
+        levels = np.asarray(source.foam_levels(), dtype=np.float64)
+        thresholds, spreads = [], []
+        for level in levels:
+            cue = source.foam_cue(xy, time, np.full(x.shape, level, np.float32))
+            spread = float(cue.std())
+            if spread <= 1e-9 * (1.0 + float(np.abs(cue).max())):  # no wave: no foam
+                thresholds.append(float(cue.max()) + NO_FOAM)
+                spreads.append(1.0)
+            else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
+                thresholds.append(_covering(cue, coverage, spread))
+                spreads.append(spread)
+        if len(cache) > 8:
+            cache.clear()
+        cache[key] = (levels, np.array(thresholds), np.array(spreads))
+    return cache[key]
+
+
+def _covering(cue, coverage, spread, softness=0.25):
+    """The threshold at which the mean of `whitecaps` over the sample `cue` is `coverage`."""
+    width = softness * spread
+    lo, hi = float(cue.min()) - width, float(cue.max()) + width
+    for _ in range(40):  # bisection: the mean foam falls as the threshold rises
+        mid = 0.5 * (lo + hi)
+        if np.clip((cue - mid) / width + 0.5, 0.0, 1.0).mean() > coverage:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def whitecaps(cue, lod, calibration, softness=0.25):  # softness as in _covering
+    """Per-vertex foam in [0, 1] from the cue at the vertices and `foam_thresholds`: rising
+    from 0 to 1 across the vertex's threshold over `softness` of the cue's spread, centred on
+    it, so the mean foam over the sea is the coverage. `lod` None: every band, whole."""
+    levels, thresholds, spreads = calibration
+    cue = np.asarray(cue, dtype=np.float32).ravel()
+    if lod is None:
+        t, spread = thresholds[-1], spreads[-1]
+    else:
+        lod = np.asarray(lod, dtype=np.float64).ravel()
+        t, spread = np.interp(lod, levels, thresholds), np.interp(lod, levels, spreads)
+    foam = np.subtract(cue, t, dtype=np.float32)
+    foam /= np.asarray(softness * spread, dtype=np.float32)
+    foam += np.float32(0.5)
     return np.clip(foam, 0.0, 1.0, out=foam)
 
 
@@ -372,18 +427,22 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
-def foam_field(surface, height_field, time, wind_speed, crests, boxes, level):
-    """Per-vertex foam of a frame in [0, 1], or None with neither kind on: on the crests (when
-    `crests`) covering the wind's whitecap share, and rings around the `boxes` crossing the
-    water (contact foam), combined by their maximum. `surface` is GridResult.surface."""
+def foam_field(source, result, time, wind_speed, crests, boxes, level):
+    """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
+    `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
+    crossing the water (contact foam), combined by their maximum. `result` is the frame's
+    GridResult: the cue is taken at its grid points before any choppy displacement."""
     foam = None
+    surface = result.surface
     if crests:
         coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
-        threshold = foam_threshold(height_field, time, coverage)
-        foam = foam_amount(surface[2].ravel(), threshold, 0.25 * height_field.amplitude)
+        calibration = foam_thresholds(source, time, coverage)
+        xy = result.base if result.base is not None else np.stack(surface[:2])
+        lod = result.lod.reshape(xy.shape[1:])
+        foam = whitecaps(source.foam_cue(xy, time, lod), lod, calibration)
     if len(boxes):
         x, y, h = surface
-        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(height_field.bound))
+        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bound))
         foam = ring if foam is None else np.maximum(foam, ring)
     return foam
 

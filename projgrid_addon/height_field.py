@@ -1,9 +1,13 @@
 """The height field f_HF (thesis §1.6 Eq. 1.2, §3.2, App. B): fractal animated noise.
 
-    f_HF(x, y, t) = amplitude * sum_i  alpha^i * w_i * noise_i(x 2^i / scale, y 2^i / scale, z_i(t))
+    f_HF(x, y, t) = amplitude * sum_i  alpha^i * w_i * noise_i((p - c_i t d) 2^i / scale, z_i(t))
 
-Octave i has wavelength scale / 2^i and evolves at the deep-water rate sqrt(g / (2 pi lambda_i)),
-scaled by `speed`, so small waves change faster than large ones. Each octave has its own hash key.
+Octave i has wavelength lambda_i = scale / 2^i and travels along the wind's direction d at the
+deep-water phase speed of its wavelength, c_i = sqrt(g lambda_i / (2 pi)), so long waves outrun
+short ones as on the sea (dispersion), while it changes shape slowly, at EVOLUTION times the
+deep-water frequency sqrt(g / (2 pi lambda_i)); `speed` scales both. Each octave has its own
+hash key. With choppiness lambda, each point also moves toward the crests by lambda grad h_i /
+k_i per octave (k_i = 2 pi / lambda_i: Tessendorf's choppy displacement of a wave).
 w_i in [0, 1] is the band limit (§3.2, band_limit.py): 1 where the grid can carry octave i, fading
 to 0 over one octave as a mip-map would. noise_i is normalised so that |noise_i| <= 1, which makes
 `bound` a true bound of every height either path returns.
@@ -19,13 +23,21 @@ from functools import lru_cache
 import numpy as np
 
 from . import noise as _noise
-from .band_limit import octave_weights
+from . import shading
+from .band_limit import octave_weights, shader_octaves
 from .scratch import CHUNK, scratch
+from .tiles import Lookup, patches, periodic_patches
 from .validation import finite, integer, non_negative, positive
 
 GRAVITY = 9.81
 MAX_OCTAVES = 24
+# How fast an octave changes shape as it travels, against the deep-water frequency of its
+# wavelength: waves keep their shape for several periods as they pass.
+EVOLUTION = 0.3
 METHODS = ("exact", "fast")
+# A bound of |grad noise| per lattice unit for the exact path's choppy bound (the fast path
+# takes its own from its textures); tests/core/test_height_field.py checks it.
+GRADIENT_BOUND = 4.0
 
 
 class NoiseTiles:
@@ -54,86 +66,63 @@ class NoiseTiles:
         self._pairs = {}
         self._frame = {}
 
-    def _patches(self, field):
-        """(size^2, 4) float32 bilinear coefficients (a, b, c, d) of a (size+1)^2 field."""
-        f00, f10 = field[:-1, :-1], field[:-1, 1:]
-        f01, f11 = field[1:, :-1], field[1:, 1:]
-        out = np.empty((self.size, self.size, 4), dtype=np.float32)
-        out[..., 0] = f00
-        out[..., 1] = f10 - f00
-        out[..., 2] = f01 - f00
-        out[..., 3] = f11 - f10 - f01 + f00
-        return out.reshape(-1)
-
-    def _slice(self, octave, k):
-        """A_k and B_k of an octave as patches, one (2, 4 size^2) float32 array, cached."""
-        key = (octave, k)
+    def _slice(self, octave, k, kind=0):
+        """A_k and B_k of an octave as patches, one (2, 4 size^2) float32 array, cached: the
+        values (kind 0), or their derivatives along x or y per lattice unit (kind 1, 2: central
+        differences on the periodic tile, so the slopes are continuous where bilinear patches'
+        own derivatives jump from texel to texel)."""
+        key = (octave, k, kind)
         hit = self._slices.get(key)
         if hit is not None:
             self._slices.move_to_end(key)
             return hit
-        a, b = _noise.slice_terms(
+        fields = _noise.slice_terms(
             self._ix, self._iy, self._fx, self._fy, k, _noise.octave_key(self.seed, octave)
         )
-        hit = np.stack([self._patches(a), self._patches(b)])
+        if kind:
+            axis = 2 - kind  # x runs along columns (axis 1), y along rows (axis 0)
+            fields = [(np.roll(f[:-1, :-1], -1, axis) - np.roll(f[:-1, :-1], 1, axis))
+                      * (0.5 * self.texels) for f in fields]
+            hit = np.stack([periodic_patches(f).view(np.float32) for f in fields])
+        else:
+            hit = np.stack([patches(f).view(np.float32) for f in fields])
         self._slices[key] = hit
         if len(self._slices) > self._cache_slices:
             self._slices.popitem(last=False)
         return hit
 
-    def texture(self, octave, z, gain=1.0):
+    def texture(self, octave, z, gain=1.0, kind=0):
         """The octave's patches at time coordinate z, times `gain`: (size^2,) complex128 elements,
-        each four float32. Each octave keeps one texture buffer, rewritten when z or gain change
-        (a fresh array per frame would be faulted in page by page; see scratch.py)."""
+        each four float32; of its values, or its slopes along x or y (kind 1, 2) per lattice
+        unit. Each octave and kind keeps one texture buffer, rewritten when z or gain change (a
+        fresh array per frame would be faulted in page by page; see scratch.py)."""
         key = (z, gain)
-        last = self._frame.get(octave)
+        last = self._frame.get((octave, kind))
         if last is not None and last[0] == key:
             return last[1]
         k, weights = _noise.time_weights(np.float64(z))
         k = int(k)
-        pair = self._pairs.get(octave)
+        pair = self._pairs.get((octave, kind))
         if pair is None or pair[0] != k:
-            pair = (k, np.concatenate([self._slice(octave, k), self._slice(octave, k + 1)]))
-            self._pairs[octave] = pair
+            pair = (k, np.concatenate([self._slice(octave, k, kind),
+                                       self._slice(octave, k + 1, kind)]))
+            self._pairs[(octave, kind)] = pair
         buf = np.empty(pair[1].shape[1], np.float32) if last is None else last[1].view(np.float32)
         c = (np.array(weights, dtype=np.float64) * gain).astype(np.float32)
         tex = np.matmul(c, pair[1], out=buf).view(np.complex128)
-        self._frame[octave] = (key, tex)
+        self._frame[(octave, kind)] = (key, tex)
         return tex
 
-    def sample(self, octave, z, xy, scale=1.0, gain=1.0):
-        """gain * the octave's texture, bilinear, at lattice coordinates xy * scale.
+    def lookup(self, xy, scale=1.0, shift=(0.0, 0.0)):
+        """Where lattice coordinates (xy - shift) * scale fall in the octaves' textures
+        (tiles.Lookup)."""
+        return Lookup(self.size, xy, scale * self.texels, shift=shift)
 
-        `xy` is a (2, ...) array of x and y, so each step below is one NumPy call for both. The
-        result is a scratch array (see scratch.py), valid until the next call.
-        """
-        tex = self.texture(octave, z, gain)
-        shape = xy.shape[1:]
-        s = scratch("s", xy.shape, np.float64)
-        np.multiply(xy, scale * self.texels, out=s)
-        cell = scratch("cell", xy.shape, np.float64)
-        np.floor(s, out=cell)
-        ij = scratch("ij", xy.shape, np.int64)
-        np.copyto(ij, cell, casting="unsafe")
-        np.subtract(s, cell, out=s)
-        frac = scratch("frac", xy.shape, np.float32)
-        np.copyto(frac, s, casting="same_kind")
-        np.bitwise_and(ij, self.size - 1, out=ij)
-        idx = scratch("idx", shape, np.int64)
-        np.multiply(ij[1], self.size, out=idx)
-        idx += ij[0]
-        patch = scratch("patch", shape, np.complex128)
-        np.take(tex, idx, out=patch, mode="wrap")  # "raise" would buffer `out`
-        patch = patch.view(np.float32).reshape(shape + (4,))
-        fx, fy = frac[0], frac[1]
-        n = scratch("n", shape, np.float32)
-        np.multiply(patch[..., 3], fx, out=n)
-        n += patch[..., 2]
-        n *= fy
-        fx *= patch[..., 1]
-        n += fx
-        n += patch[..., 0]
-        return n
+    def sample(self, octave, z, xy, scale=1.0, gain=1.0):
+        """gain * the octave's texture, bilinear, at lattice coordinates xy * scale (a (2, ...)
+        array of x and y). The result is a scratch array (see scratch.py), valid until the next
+        call."""
+        return self.lookup(xy, scale).sample(self.texture(octave, z, gain))
 
 
 @lru_cache(maxsize=8)
@@ -147,7 +136,7 @@ class HeightField:
     """Fractal animated noise heights with a true displacement bound (S_upper/S_lower of §2.2)."""
 
     def __init__(self, amplitude=0.5, wave_scale=40.0, octaves=8, roughness=0.5, speed=1.0,
-                 seed=0, method="fast", texels=4):
+                 seed=0, method="fast", texels=4, wind_direction=0.0, choppiness=0.0):
         self.amplitude = non_negative("amplitude", amplitude)
         self.wave_scale = positive("wave_scale", wave_scale)
         self.octaves = integer("octaves", octaves, 0, MAX_OCTAVES)
@@ -157,7 +146,81 @@ class HeightField:
         if method not in METHODS:
             raise ValueError(f"method: must be one of {METHODS}, got {method!r}")
         self.method = method
+        self.direction = np.array([np.cos(finite("wind_direction", wind_direction)),
+                                   np.sin(wind_direction)])
+        self.choppiness = non_negative("choppiness", choppiness)
         self._tiles = shared_tiles(self.seed, texels) if method == "fast" else None
+        self._side = None  # (time, horizontal bound), made by prepare
+
+    def prepare(self, t):
+        """Ready for time t: the horizontal bound of the choppy displacement at t."""
+        t = finite("time", t)
+        if self._side is None or self._side[0] != t:
+            self._side = (t, self._horizontal_bound(t))
+        return self
+
+    @property
+    def horizontal_bound(self):
+        """max |choppy displacement| at the time last prepared (0 without choppiness)."""
+        return self._side[1] if self._side is not None else 0.0
+
+    def _horizontal_bound(self, t):
+        """Per octave lambda gain |grad n| / k: from the texture patches' gradients (exact for
+        what is sampled), or for the exact path a bound of the noise's gradient."""
+        if self.choppiness == 0.0 or self.amplitude == 0.0:
+            return 0.0
+        total = 0.0
+        scale = self.amplitude / _noise.NOISE_BOUND
+        for i in range(self.octaves):
+            gain = scale * self.roughness**i
+            if gain == 0.0:
+                continue
+            if self._tiles is None:
+                steepest = GRADIENT_BOUND  # per lattice unit
+            else:  # the slope textures the frame samples (bilinear never exceeds a corner)
+                z = self.time_coordinate(i, t)
+                gx, gy = (self._tiles.texture(i, z, 1.0, kind).view(np.float32)[0::4]
+                          for kind in (1, 2))
+                steepest = float(np.hypot(gx, gy).max())
+            total += self.choppiness * gain * steepest / (2.0 * np.pi)
+        return total
+
+    first_level = 0.0  # the band limit below which no octave is in the geometry
+
+    @property
+    def longest_wave(self):
+        return self.wave_scale if self.octaves and self.amplitude else 0.0
+
+    @property
+    def foam_span(self):
+        """Metres across the sea pattern whitecaps are calibrated on (effects.foam_thresholds):
+        one tile of the first octave, 32 wavelengths."""
+        return 32.0 * self.wave_scale
+
+    def foam_levels(self):
+        """The band limits at which the foam is calibrated: octave i is whole from lod i + 1."""
+        return np.arange(self.octaves + 1, dtype=np.float64)
+
+    def foam_cue(self, xy, t, lod=None):
+        """Where whitecaps form on the noise: the highest crests (Jensen and Golias)."""
+        return self.heights_xy(xy, t, lod)
+
+    def shader_octaves(self, lod):
+        """(first, count): the octaves some vertex left out, in part or whole (§3.2)."""
+        return shader_octaves(lod, self.octaves)
+
+    def shader_detail(self, first, count):
+        """The octaves from `first` on (`count` of them) as the shader's noise (shading.Detail)."""
+        return shading.Detail(first=int(first), scale=1.0 / self.wavelength(first),
+                              octaves=float(max(count - 1, 0)),
+                              roughness=min(self.roughness, 1.0),
+                              height=self.amplitude * self.roughness**first if count else 0.0,
+                              time_rate=float(self.time_coordinate(first, 1.0)))
+
+    def travel(self, octave, t):
+        """How far octave i has travelled along the wind at time t: (dx, dy) in metres."""
+        speed = np.sqrt(GRAVITY * self.wavelength(octave) / (2.0 * np.pi))
+        return self.direction * (speed * self.speed * t)
 
     @property
     def bound(self):
@@ -168,8 +231,10 @@ class HeightField:
         return self.wave_scale / 2.0**octave
 
     def time_coordinate(self, octave, t):
-        """Noise time coordinate of an octave: deep-water frequency sqrt(g / (2 pi lambda))."""
-        return t * self.speed * np.sqrt(GRAVITY / (2.0 * np.pi * self.wavelength(octave)))
+        """Noise time coordinate of an octave: EVOLUTION times the deep-water frequency of its
+        wavelength, sqrt(g / (2 pi lambda))."""
+        return (t * self.speed * EVOLUTION
+                * np.sqrt(GRAVITY / (2.0 * np.pi * self.wavelength(octave))))
 
     def heights(self, x, y, t, lod=None):
         """f_HF at world points (x, y) and time t (float64, same shape as x).
@@ -180,27 +245,36 @@ class HeightField:
         return self.heights_xy(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod)
 
     def heights_xy(self, xy, t, lod=None):
-        """`heights` at a (2, ...) array of x and y, as the grid builds them.
+        """`heights` at a (2, ...) array of x and y, as the grid builds them."""
+        return self._evaluate(xy, t, lod, False)[0]
 
-        An octave is evaluated only on the rows (last axis = columns) between the first and the
-        last row where some point keeps it: contiguous slices, no gathers or scatters. Rows are
-        summed CHUNK vertices at a time, so the scratch buffers keep that size.
-        """
+    def displacement(self, xy, t, lod=None):
+        """(h, (dx, dy) or None) at a (2, ...) array of x and y: the height and, with
+        choppiness, the horizontal displacement toward the crests."""
+        return self._evaluate(xy, t, lod, self.choppiness > 0.0)
+
+    def _evaluate(self, xy, t, lod, choppy):
+        """An octave is evaluated only on the rows (last axis = columns) between the first and
+        the last row where some point keeps it: contiguous slices, no gathers or scatters. Rows
+        are summed CHUNK vertices at a time, so the scratch buffers keep that size."""
         t = finite("time", t)
         xy = np.asarray(xy, dtype=np.float64)
         shape = xy.shape[1:]
         h = np.zeros(shape, dtype=np.float64)
+        d = np.zeros((2,) + shape) if choppy else None
         if self.amplitude == 0.0 or h.size == 0:
-            return h
+            return h, d
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         xy2, h2 = xy.reshape((2,) + rows), h.reshape(rows)
+        d2 = None if d is None else d.reshape((2,) + rows)
         step = max(1, CHUNK // h2.shape[1])
         for start in range(0, h2.shape[0], step):
             band = slice(start, start + step)
             lod_band = None if lod2 is None else lod2[band]
-            self._sum_octaves(self._octave_jobs(lod_band), xy2[:, band], lod_band, t, h2[band])
-        return h
+            self._sum_octaves(self._octave_jobs(lod_band), xy2[:, band], lod_band, t, h2[band],
+                              None if d2 is None else d2[:, band])
+        return h, d
 
     def _octave_jobs(self, lod2):
         """(octave, gain, rows, weighted) for each octave some point keeps (§1.6 band limit)."""
@@ -222,19 +296,45 @@ class HeightField:
             jobs.append((i, gain, band, bool(row_min[band].min() < i + 1)))
         return jobs
 
-    def _sum_octaves(self, jobs, xy2, lod2, t, out):
-        """Add the octaves of `jobs` into `out` (rows x columns)."""
+    def _sum_octaves(self, jobs, xy2, lod2, t, out, side=None):
+        """Add the octaves of `jobs` into `out` (rows x columns), and their choppy displacement
+        into `side` (2 x rows x columns) if given."""
         for i, gain, band, weighted in jobs:
             z = self.time_coordinate(i, t)
             inv = 1.0 / self.wavelength(i)
+            shift = self.travel(i, t)
+            # lambda grad h / k: the gradient per lattice unit times gain lambda / (2 pi).
+            chop = gain * self.choppiness / (2.0 * np.pi)
             if self._tiles is None:
-                xs, ys = xy2[0, band] * inv, xy2[1, band] * inv
-                n = _noise.noise(xs, ys, np.full(xs.shape, z), _noise.octave_key(self.seed, i))
+                xs, ys = (xy2[0, band] - shift[0]) * inv, (xy2[1, band] - shift[1]) * inv
+                key = _noise.octave_key(self.seed, i)
+                n = _noise.noise(xs, ys, np.full(xs.shape, z), key)
                 n *= gain
+                if side is not None:
+                    e = 1e-3  # lattice units: central differences of the exact noise
+                    zs = np.full(xs.shape, z)
+                    gx = (_noise.noise(xs + e, ys, zs, key) - _noise.noise(xs - e, ys, zs, key))
+                    gy = (_noise.noise(xs, ys + e, zs, key) - _noise.noise(xs, ys - e, zs, key))
+                    gx *= chop / (2.0 * e)
+                    gy *= chop / (2.0 * e)
             else:
-                n = self._tiles.sample(i, z, xy2[:, band], inv, gain)
+                where = self._tiles.lookup(xy2[:, band], inv, shift)
+                if side is not None:
+                    gx = where.sample(self._tiles.texture(i, z, chop, 1), out=scratch(
+                        "chop x", where.shape, np.float32))
+                    gy = where.sample(self._tiles.texture(i, z, chop, 2), out=scratch(
+                        "chop y", where.shape, np.float32))
+                n = where.sample(self._tiles.texture(i, z, gain))
+            weights = None
             if weighted:
-                n *= octave_weights(lod2[band], i,
-                                    scratch("weights", lod2[band].shape, lod2.dtype))
+                weights = octave_weights(lod2[band], i,
+                                         scratch("weights", lod2[band].shape, lod2.dtype))
+                n *= weights
             out[band] += n
+            if side is not None:
+                if weights is not None:
+                    gx *= weights
+                    gy *= weights
+                side[0, band] += gx
+                side[1, band] += gy
 

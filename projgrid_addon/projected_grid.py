@@ -16,9 +16,9 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
-from .band_limit import grid_steps, lod_from_w, shader_octaves
+from .band_limit import grid_steps, lod_from_w
 from .camera import Camera
-from .displaceable_volume import visible_volume_points
+from .displaceable_volume import Extent, fitted_extent, visible_volume_points
 from .projector import Projector, aim_projector
 from .scratch import CHUNK, scratch
 from .validation import finite, integer, non_negative
@@ -44,6 +44,14 @@ class GridResult:
     resolution: tuple
     origin: np.ndarray  # (3,) float64: world position = origin + positions
     camera: Camera | None = None
+    base: np.ndarray | None = None  # (2, ny, nx) float64 grid points on S_base, when displaced
+    # sideways (choppy); `surface` then holds the displaced points
+    extent: Extent | None = None  # the displaceable volume the grid was built for
+
+    @property
+    def fitted(self):
+        """Whether the grid was built for the volume fitted to the sea in view."""
+        return self.extent is not None and self.extent.fitted
 
     @cached_property
     def uv(self):
@@ -53,9 +61,9 @@ class GridResult:
         return grid_uv(*self.resolution)
 
     def without_surface(self):
-        """This result without its float64 surface (24 bytes a vertex): what is kept after the
-        frame for the statistics (the mesh holds the positions)."""
-        return replace(self, surface=())
+        """This result without its float64 surface and base points (24 to 40 bytes a vertex):
+        what is kept after the frame for the statistics (the mesh holds the positions)."""
+        return replace(self, surface=(), base=None)
 
     @cached_property
     def efficiency(self):
@@ -176,9 +184,28 @@ def grid_normals(x, y, z):
     return n.reshape(-1, 3).astype(np.float32)
 
 
+def widened(points, side):
+    """Points on S_base and the corners of the square `side` metres around each: where grid
+    points may lie whose choppy displacement (at most `side`) brings them into view."""
+    offsets = np.array([(-side, -side, 0.0), (side, -side, 0.0), (-side, side, 0.0),
+                        (side, side, 0.0)])
+    return np.concatenate([points, (points[:, None, :] + offsets).reshape(-1, 3)])
+
+
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
-               projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector):
+               projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector,
+               extent=None):
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
+
+    `height_field` is a height source (HeightField, SpectralField): prepared for `time`, it
+    gives its vertical `bound`, the `horizontal_bound` of its choppy displacement, and
+    `displacement(xy, time, lod)`. With a displacement sideways, V_visible on S_base is widened
+    by its bound, so the displaced grid still covers the screen.
+
+    The grid is first built from the displaceable volume fitted to the sea in view
+    (`fitted_extent`) and kept if its border lies outside the screen (`border_outside`); otherwise
+    from the source's true bounds (§2.2), which always cover it. `GridResult.fitted` says which;
+    a given `extent` (such as an earlier result's) is used as it is.
 
     Positions are world space relative to `origin` (default the world origin; see
     `snapped_origin`). `aim` places the projector; it is a parameter so tests can substitute the
@@ -190,17 +217,52 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     time = finite("time", time)
     elevation = non_negative("projector_elevation", projector_elevation)
     nx, ny = check_resolution(resolution)
-    hf = height_field
-    bound = hf.bound
+    hf = height_field.prepare(time)
     origin = np.zeros(3) if origin is None else np.asarray(origin, dtype=np.float64)
     if origin.shape != (3,) or not np.all(np.isfinite(origin)):
         raise ValueError(f"origin: expected a finite 3-vector, got {origin!r}")
+    args = (camera, hf, level, time, (nx, ny), elevation, band_limit, origin, aim)
+    if extent is not None:
+        return _grid(*args, extent)
+    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    fitted = fitted_extent(camera, level, hf, time, full)
+    if fitted is not None and not full <= fitted:
+        result = _grid(*args, fitted)
+        if result.visible and border_outside(camera, result):
+            return result
+    return _grid(*args, full)
 
-    points = visible_volume_points(camera, level, bound)
+
+def border_outside(camera, result):
+    """Whether the grid's border, displaced, lies outside V_cam: then the grid covers the screen
+    as the full volume's would. Each border segment must have both ends outside one frustum plane
+    (a half-space holds the segment between); the row the range stops at the horizon is exempt."""
+    nx, ny = result.resolution
+    p = result.positions.reshape(ny, nx, 3)
+    rows = [p[0], p[1:, -1], p[-1, -2::-1], p[-2::-1, 0]]  # a loop: bottom, right, top, left
+    exempt = {0: 0, -1: 2}.get(result.projector.horizon_row)
+    for i, line in enumerate(rows):
+        if i == exempt:
+            continue
+        start = rows[i - 1][-1:]
+        c = camera.clip(np.concatenate([start, line]).astype(np.float64) + result.origin)
+        w = c[:, 3:]
+        out = np.concatenate([w + c[:, :3], w - c[:, :3]], axis=1) < 0.0
+        if not (out[:-1] & out[1:]).any(axis=1).all():
+            return False
+    return True
+
+
+def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, aim, extent):
+    """The grid for the displaceable volume of `extent` (§2.4 steps 2 to 7)."""
+    nx, ny = resolution
+    points = visible_volume_points(camera, level, extent.upper, extent.lower)
     if len(points) == 0:
-        return _empty((nx, ny), hf.octaves, origin)
+        return _empty((nx, ny), hf.shader_octaves(None)[0], origin)
     points[:, 2] = level  # onto S_base
-    projector = aim(camera, level, bound, elevation, points).with_range(points, origin)
+    if extent.side > 0.0:
+        points = widened(points, extent.side)
+    projector = aim(camera, level, extent.upper, elevation, points).with_range(points, origin)
     c = projector.corner_points(level)
 
     # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v), in the
@@ -227,14 +289,18 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
             xy[k, rows] /= hw
         if band_limit:
             lod_from_w(steps, rows, hw, lod[rows])
+    h, d = hf.displacement(xy, time, lod)
+    base = None
+    if d is not None:
+        base = xy
+        xy = xy + d
     x, y = xy
-    h = hf.heights_xy(xy, time, lod)
     positions = np.empty((ny, nx, 3), dtype=np.float32)
     np.subtract(x, origin[0], out=positions[..., 0], casting="same_kind")
     np.subtract(y, origin[1], out=positions[..., 1], casting="same_kind")
     np.add(h, level - origin[2], out=positions[..., 2], casting="same_kind")
     positions = positions.reshape(-1, 3)
-    shader = shader_octaves(lod, hf.octaves)
+    shader = hf.shader_octaves(lod)
     lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
-                      (nx, ny), origin, camera)
+                      (nx, ny), origin, camera, base, extent)

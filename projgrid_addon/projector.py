@@ -22,6 +22,9 @@ METHOD1_GAIN = 8.0
 METHOD2_DISTANCE = 8.0
 # Relative widening of the range so rays exactly on the screen edge still meet the mesh.
 RANGE_MARGIN = 1e-5
+# Standing back from a sea that reaches under a low camera (`_standing_back`).
+STEEPEST = np.radians(45.0)
+STAND_BACK = 3.0
 
 # Normalised projections: only x/w and y/w matter to the grid (M_range absorbs field of view, aspect
 # and lens shift), so the depth row is chosen for conditioning. NDC z = 1 / distance (perspective)
@@ -46,6 +49,7 @@ class Projector:
     orthographic: bool
     span: tuple = (-1.0, 1.0, -1.0, 1.0)
     line_depths: tuple = (0.0, 1.0)
+    horizon_row: int | None = None  # the grid row (0 or -1) the span stops at the horizon
 
     @classmethod
     def looking(cls, position, right, up, forward, orthographic):
@@ -73,15 +77,19 @@ class Projector:
         lo, hi = (ndc - each).min(axis=0), (ndc + each).max(axis=0)
         pad = RANGE_MARGIN * (hi - lo) + 1e-12 * (1.0 + np.abs(lo) + np.abs(hi))
         lo, hi = lo - pad, hi + pad
-        horizon = self.horizon_y
+        horizon, row = self.horizon_y, None
         if horizon is not None:  # never pad across the horizon, where rays stop meeting S_base
             top, bottom = ndc[:, 1].max(), ndc[:, 1].min()
             if self.view[1, 2] > 0:
-                hi[1] = min(hi[1], top + 0.5 * (horizon - top))
+                stop = top + 0.5 * (horizon - top)
+                row = -1 if stop < hi[1] else None
+                hi[1] = min(hi[1], stop)
             else:
-                lo[1] = max(lo[1], bottom + 0.5 * (horizon - bottom))
+                stop = bottom + 0.5 * (horizon - bottom)
+                row = 0 if stop > lo[1] else None
+                lo[1] = max(lo[1], stop)
         return Projector(self.view, self.proj, self.position, self.forward, self.orthographic,
-                         (lo[0], hi[0], lo[1], hi[1]), self.line_depths)
+                         (lo[0], hi[0], lo[1], hi[1]), self.line_depths, row)
 
     @property
     def horizon_y(self):
@@ -177,6 +185,25 @@ def aim_point(camera, level, height):
     return ((1.0 - w) * METHOD2_DISTANCE * height + method1) * _horizontal(f)
 
 
+def _standing_back(camera, level, bound, height, g, base_points):
+    """How far the projector stands back along its heading `g` from above the camera.
+
+    V_visible reaches under a camera that is low against the sea's reach (`bound`), and a projector
+    right above it would spend most of its rows on those points. Standing back, it sees none of
+    them steeper below it than the camera's steepest view ray or STEEPEST; fully for a camera up to
+    STAND_BACK - 1 times `bound` above the water, fading out by STAND_BACK times.
+    """
+    if camera.orthographic or bound <= 0.0 or len(base_points) == 0:
+        return 0.0
+    low = float(np.clip(STAND_BACK - abs(camera.position[2] - level) / bound, 0.0, 1.0))
+    if low == 0.0:
+        return 0.0
+    rays = camera.corners[4:] - camera.corners[:4]
+    steepest = max(float(np.arctan2(-rays[:, 2], rays @ g).max()), STEEPEST)
+    nearest = float(((base_points[:, :2] - camera.position[:2]) @ g[:2]).min())
+    return low * max(0.0, height / np.tan(steepest) - nearest)
+
+
 def aim_projector(camera, level, bound, elevation, base_points):
     """Place and aim the projector for `camera` (§2.4 step 3, §2.4.1, §2.5).
 
@@ -191,8 +218,10 @@ def aim_projector(camera, level, bound, elevation, base_points):
     height = max(abs(camera.position[2] - level), bound + elevation, floor)
     eye = np.array([camera.position[0], camera.position[1], level + height])
     g = heading(camera)
+    back = _standing_back(camera, level, bound, height, g, base_points)
+    eye[:2] -= back * g[:2]
     right = np.array([g[1], -g[0], 0.0])  # g x UP
-    aim = aim_point(camera, level, height) @ g
+    aim = aim_point(camera, level, height) @ g + back
     pitch = np.arctan2(height, aim)  # angle below the horizon, in (0, pi)
     lo, hi = MARGIN_ANGLE, np.pi - MARGIN_ANGLE
     if not camera.orthographic:

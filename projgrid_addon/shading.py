@@ -1,9 +1,9 @@
 """What the water shader needs each frame, as plain values (thesis §3.1.3, §3.4.5).
 
 The octaves the grid's band limit left out (band_limit.shader_octaves) come back in the shader
-as bump detail: the same fractal from the first left-out octave on, at its wavelength, height
-and time rate. The sun glint (§3.4.5) needs the direction towards the sun and whether it is
-above the horizon.
+as bump detail: a fractal from the first left-out octave on, at its wavelength, height and time
+rate (each height source's `shader_detail`). The sun glint (§3.4.5) needs the direction towards
+the sun and whether it is above the horizon.
 """
 
 from dataclasses import dataclass
@@ -22,17 +22,6 @@ class Detail:
     roughness: float
     height: float
     time_rate: float
-
-
-def detail(height_field, shader_octaves):
-    """The shader's detail for a height field whose octaves from `shader_octaves` = (first,
-    count) were left out of the geometry."""
-    hf = height_field
-    first, count = shader_octaves
-    return Detail(first=int(first), scale=1.0 / hf.wavelength(first),
-                  octaves=float(max(count - 1, 0)), roughness=min(hf.roughness, 1.0),
-                  height=hf.amplitude * hf.roughness**first if count else 0.0,
-                  time_rate=float(hf.time_coordinate(first, 1.0)))
 
 
 def sun_direction(matrix_world):

@@ -33,8 +33,9 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 6  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 7  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
+FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
@@ -142,8 +143,15 @@ def _build(group):
                                                 2: window.outputs[0]})
     result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
                                             2: reflection.outputs[0]})
-    # Foam (Jensen and Golias): a rough white cover where the crests carry it.
+    # Foam (Jensen and Golias): a rough white cover where the crests carry it, broken into
+    # patches by a noise under a metre across whose factor averages 1 (the covered share stays
+    # the calibrated one), so a whitecap is not the round blob the vertices interpolate.
     foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
+    grain = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Detail Time"],
+                                          "Scale": FOAM_GRAIN, "Detail": 4.0,
+                                          "Roughness": 0.65}, noise_dimensions="4D")
+    foam = g.math("MULTIPLY", foam, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5),
+                  clamp=True)
     cover = g.node("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0), "Normal": normal})
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
                                                2: cover.outputs[0]})

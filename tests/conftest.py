@@ -13,3 +13,14 @@ if ROOT not in sys.path:
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
 settings.register_profile("dev", deadline=None, print_blob=True)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
+
+
+def pytest_terminal_summary(terminalreporter):
+    """How often the stability suite's popping check compared a nudged grid."""
+    suite = sys.modules.get("tests.core.test_stability")
+    counts = getattr(suite, "POPPING", None)
+    if counts and counts["poses"]:
+        terminalreporter.write_line(
+            f"popping check: compared {counts['compared']} of {counts['poses']} poses "
+            f"({counts['compared'] / counts['poses']:.0%}; the rest not visible, at a heading "
+            "singularity or seen edge-on)")

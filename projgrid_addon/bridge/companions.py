@@ -255,7 +255,8 @@ def use_render_mesh(surface):
     if not owns(viewport) or not local(viewport) or surface.session_uid in RUNTIME.swapped:
         return
     mesh = surface.projgrid.render_mesh
-    if mesh is None or not owns(mesh) or not local(mesh):
+    taken = {s.data for s, _ in RUNTIME.swapped.values()}  # a duplicate's copied pointer
+    if mesh is None or not owns(mesh) or not local(mesh) or mesh in taken:
         mesh = bpy.data.meshes.new(viewport.name + " Render")
         mesh[TAG] = True
         surface.projgrid.render_mesh = mesh
@@ -275,6 +276,16 @@ def use_viewport_mesh():
         except ReferenceError:  # deleted while rendering
             pass
     RUNTIME.swapped.clear()
+
+
+def mend_render_meshes():
+    """After a load: a surface saved in the middle of a render drew its render mesh; that mesh
+    is its viewport mesh from now on (emptied; rebuilt at the next update)."""
+    for obj in bpy.data.objects:
+        mesh = obj.projgrid.render_mesh if obj.type == "MESH" else None
+        if mesh is not None and obj.data == mesh and owns(mesh) and local(obj):
+            obj.projgrid.render_mesh = None
+            empty(mesh)
 
 
 def _draw(surface, old, new):

@@ -9,7 +9,7 @@ import numpy as np
 
 from ...shaders import water
 from ...shaders.nodes import assign
-from .. import Camera, build_grid, effects, memory, shading
+from .. import Camera, build_grid, effects, memory
 from . import companions, mesh, scene
 from .state import RUNTIME
 
@@ -101,7 +101,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         to_local = scene.ocean_axes(world)
         level = world[2, 3]
         t = scene.scene_time(the_scene)
-        hf = scene.height_field(settings)
+        hf = scene.height_field(settings).prepare(t)
         cam = Camera(*camera)
         sun = scene.sun_lamp(the_scene, depsgraph, render)
         camera_key = cam.view.tobytes() + cam.proj.tobytes()
@@ -129,13 +129,13 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         on = {e: d[0] for e, d in decisions.items()}
         visible = result.visible
         boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
-        foam = (effects.foam_field(result.surface, hf, t, settings.wind_speed, on["foam"], boxes,
-                                   level) if visible else None)
+        foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level)
+                if visible else None)
         caustics = (effects.caustic_field(result.surface, facts)
                     if visible and on["caustics"] else None)
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)
                    if on["godrays"] else None)
-        detail = shading.detail(hf, result.shader_octaves)
+        detail = hf.shader_detail(*result.shader_octaves)
     except ValueError as e:
         mesh.empty(surface.data)
         return state.refused(str(e))
@@ -169,9 +169,10 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                      direction is not None and direction[2] > 0.0, detail.first, detail.scale,
                      detail.octaves, detail.roughness, detail.height,
                      detail.time_rate * per_frame)
-    if making and restructured:
-        companions.ensure_companions(surface)
-        companions.own_material(surface)
+    if making:
+        if restructured:
+            companions.ensure_companions(surface)
+        companions.own_material(surface)  # a material shared by hand is split at once
     body = surface.projgrid.water_body
     if godrays is not None and body is not None and scene.owns(body):
         body_material = water.material_of(body.data)
@@ -194,13 +195,18 @@ def effects_in_use():
 
 def flat_warning(hf, result, settings):
     """Why a built sea has no wave in its geometry, and what to change (None if it has)."""
-    if not result.visible or hf.amplitude == 0.0 or hf.octaves == 0 or result.lod.max() > 0.0:
+    longest = hf.longest_wave
+    if (not result.visible or hf.bound == 0.0 or longest == 0.0
+            or result.lod.max() > hf.first_level):
         return None
     spacing = hf.wave_scale / 2.0 ** (float(result.lod.max()) + 1.0)
     text = (f"no wave is in the geometry: the grid's vertices lie {spacing:.3g} m apart or "
-            f"more, beyond the longest wave ({hf.wave_scale:.3g} m); ")
+            f"more, beyond the longest wave ({longest:.3g} m); ")
     if settings.projector_elevation > hf.bound:
         return text + (f"Projector Elevation ({settings.projector_elevation:.3g} m) lifts the "
                        "projector far above the waves: lower it")
+    if settings.height_source == "SPECTRUM":
+        return text + (f"the waves are {hf.bound:.3g} m high, so the projector sits that high: "
+                       "raise the grid resolution")
     return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {hf.bound:.3g} m high, "
                    "so the projector sits that high: lower Amplitude or raise Wave Scale")

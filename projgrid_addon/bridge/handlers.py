@@ -57,6 +57,8 @@ def depsgraph_update_post(the_scene, depsgraph):
     moved or its settings changed, or another object or lamp moved (the effects depend on them).
     What the update did not touch is kept (scene.note_updates); rebuilds whose inputs are
     unchanged (such as the update our own mesh write causes) are skipped, so this cannot loop."""
+    if RUNTIME.rendering and not bpy.app.background and not bpy.app.is_job_running("RENDER"):
+        render_done(the_scene)  # a render that ended without saying so (one that failed early)
     if RUNTIME.rendering or depsgraph.mode == "RENDER":
         return
     # Objects are added, deleted or relinked only with a collection among the updates: only
@@ -64,11 +66,11 @@ def depsgraph_update_post(the_scene, depsgraph):
     updates = [u.id for u in depsgraph.updates]  # (a walk over the evaluated data: once)
     structural = any(isinstance(u, bpy.types.Collection) for u in updates)
     object_count = len(bpy.data.objects) if structural else RUNTIME.object_count
+    relevant = scene.note_updates(the_scene, updates, object_count)  # drops a stale cache
     if structural and _forget_deleted(object_count):
         companions.remove_stale_stand_ins(the_scene, scene.appearances(the_scene),
                                           everywhere=True)
-        object_count = len(bpy.data.objects)
-    if scene.note_updates(the_scene, updates, object_count):
+    if relevant:
         frame.update_scene(the_scene, depsgraph, render=False, frame_change=False)
 
 
@@ -89,12 +91,13 @@ def render_init(the_scene, _=None):
     # Before the render's depsgraph is built from the scene. An interactive render runs this in
     # its job thread: objects are made only with the interface locked (the viewport makes them
     # otherwise, at its next update).
+    companions.use_viewport_mesh()  # after a render that ended without saying so
     if bpy.app.background or the_scene.render.use_lock_interface:
         prepare(the_scene)
-    for app in scene.appearances(the_scene):
-        surface = companions.surface_for(app, the_scene, create=False)
-        if surface is not None:
-            companions.use_render_mesh(surface)
+        for app in scene.appearances(the_scene):
+            surface = companions.surface_for(app, the_scene, create=False)
+            if surface is not None:
+                companions.use_render_mesh(surface)
     RUNTIME.rendering = True
     if (not bpy.app.background and scene.ocean_objects(the_scene)
             and not the_scene.render.use_lock_interface):
@@ -117,6 +120,7 @@ def load_post(*_):
     """The user's Lock Interface choice is kept: the panel says when renders need it."""
     RUNTIME.clear()
     companions.remove_orphan_companions()
+    companions.mend_render_meshes()
     for the_scene in bpy.data.scenes:
         if the_scene.library is None:
             prepare(the_scene)

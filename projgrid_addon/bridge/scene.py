@@ -7,6 +7,7 @@ everything afresh from the render's own evaluation.
 """
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import bpy
 import numpy as np
@@ -15,6 +16,8 @@ from ...shaders.nodes import TAG
 from .. import HeightField, effects, shading
 from ..camera import blender_projection, rigid_view
 from ..projected_grid import check_resolution
+from ..spectral_field import SpectralField
+from ..spectrum import SeaState
 from .state import RUNTIME
 
 STAND_IN = "projgrid_stand_in"  # ID property of a stand-in: the appearance key it draws
@@ -24,7 +27,9 @@ GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCL
 # Settings whose value is part of a build's key (every input of the rebuild).
 SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
             "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-            "projector_elevation", "noise", "wind_speed", *effects.EFFECTS)
+            "projector_elevation", "noise", "wind_speed", "height_source", "spectrum",
+            "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
+            "swell_period", *effects.EFFECTS)
 # The effects whose AUTO decision looks at the objects in view (and the ON ones that use them).
 OBJECT_EFFECTS = ("contact_foam", "refraction", "caustics", "local_reflections")
 
@@ -45,16 +50,40 @@ def writable(obj):
 
 
 def height_field(settings):
-    """The core HeightField for (possibly evaluated) settings."""
+    """The core height source for (possibly evaluated) settings: the spectral sea
+    (SpectralField, kept while its settings stay) or the noise (HeightField)."""
+    if settings.height_source == "SPECTRUM":
+        state = SeaState(wind_speed=settings.wind_speed,
+                         wind_direction=settings.wind_direction, fetch=settings.fetch,
+                         spectrum=settings.spectrum, swell_height=settings.swell_height,
+                         swell_direction=settings.swell_direction,
+                         swell_period=settings.swell_period)
+        return _spectral(state, settings.choppiness, settings.seed)
     return HeightField(amplitude=settings.amplitude, wave_scale=settings.wave_scale,
                        octaves=settings.octaves, roughness=settings.roughness,
                        speed=settings.speed, seed=settings.seed,
-                       method=settings.noise.lower())
+                       method=settings.noise.lower(), wind_direction=settings.wind_direction,
+                       choppiness=settings.choppiness)
+
+
+@lru_cache(maxsize=4)
+def _spectral(state, choppiness, seed):
+    """A SpectralField per settings (making one evaluates its spectrum over every tile)."""
+    return SpectralField(state, choppiness, seed)
 
 
 def ocean_objects(scene):
     """The oceans placed in `scene` itself."""
     return [obj for obj in scene.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
+
+
+def active_ocean(context):
+    """The ocean the user works on: the active object if an ocean, else the scene's first."""
+    obj = context.active_object
+    if obj is not None and obj.type == "MESH" and obj.projgrid.is_ocean:
+        return obj
+    oceans = ocean_objects(context.scene) if context.scene else []
+    return oceans[0] if oceans else None
 
 
 # ---- What is kept between viewport updates ----------------------------------------------------
@@ -92,7 +121,8 @@ def note_updates(scene, updates, object_count):
         if isinstance(id_block, bpy.types.Collection):
             cache.valid, relevant = False, True
         elif isinstance(id_block, bpy.types.Object):
-            relevant = _object_changed(cache, id_block.original) or relevant
+            obj = id_block.original
+            relevant = obj == scene.camera or _object_changed(cache, obj) or relevant
         elif isinstance(id_block, (bpy.types.Scene, bpy.types.Camera, bpy.types.Light)):
             relevant = True
             if isinstance(id_block, bpy.types.Light):
@@ -122,6 +152,9 @@ def _valid(scene):
         try:
             for obj in cache.oceans:
                 obj.name_full  # noqa: B018 (raises ReferenceError once deleted)
+            for app in cache.appearances:
+                for instancer, _ in app.chain:
+                    instancer.name_full  # noqa: B018
         except ReferenceError:
             cache.valid = False
     if not cache.valid:
@@ -317,12 +350,15 @@ def camera_for(scene, depsgraph, camera=None, frame_change=True):
 
 
 def scene_time(scene):
-    """Seconds at the current (sub)frame."""
+    """Seconds at the current (sub)frame: Blender's scene time, time stretching included (the
+    frame times frame_map_old / frame_map_new: the `frame` drivers see), at the frame rate."""
     r = scene.render
-    return (scene.frame_current + scene.frame_subframe) * r.fps_base / r.fps
+    frame = (scene.frame_current + scene.frame_subframe) * r.frame_map_old / r.frame_map_new
+    return frame * seconds_per_frame(scene)
 
 
 def seconds_per_frame(scene):
+    """Seconds per unit of scene time (the drivers' `frame`)."""
     return scene.render.fps_base / scene.render.fps
 
 
@@ -366,8 +402,11 @@ def _find_sun(scene):
 
 class ObjectBoxes:
     """World bounding boxes of a scene's visible geometry (other than oceans and ours), and
-    which are in view or mirrored in view for the last camera, refreshed row by row; the facts'
-    objects are kept while nothing in view or mirrored changes (`version`)."""
+    which are in view or mirrored in view for each of the last few (camera, level) the oceans
+    showing asked about (`_View`), refreshed row by row; a view's facts are kept while nothing
+    in it or mirrored in it changes."""
+
+    VIEWS = 4  # two oceans, or a stand-in per instance, each keep their own flags
 
     def __init__(self, scene, render, depsgraph=None):
         self.render, self.depsgraph = render, depsgraph
@@ -377,8 +416,7 @@ class ObjectBoxes:
         self.boxes = np.zeros((len(self.objects), 8, 3))
         self.hidden = np.zeros(len(self.objects), dtype=bool)
         self._local = np.empty(24, dtype=np.float32)
-        self.seen_for = self.seen_key = None  # (camera, level) the in-view flags are for
-        self.version, self._facts = 0, (None, None)
+        self.views = {}  # (camera key, level) -> _View, oldest first
         for i in range(len(self.objects)):
             self._read(i)
 
@@ -394,59 +432,69 @@ class ObjectBoxes:
         obj.bound_box.foreach_get(self._local)  # the evaluated geometry's box
         world = np.array(obj.matrix_world, dtype=np.float64)
         self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
-        if self.seen_for is not None:
-            self._see(np.array([i]))
+        for view in self.views.values():
+            view.see(self.boxes, np.array([i]))
 
     def refresh(self, obj):
-        """Re-read an object an update touched; returns whether it may matter to the facts:
-        it is in view or mirrored in view, before or after, or its visibility changed (an
+        """Re-read an object an update touched; returns whether it may matter to the facts of
+        some view: it is in it or mirrored in it, before or after, or its visibility changed (an
         unknown object is new: the cache is rebuilt at the next structural change)."""
         i = self.index.get(obj.session_uid)
         if i is None:
             return True
-        before = self._flags(i)
+        before = [view.flags(i) for view in self.views.values()]
+        hidden = bool(self.hidden[i])
         self._read(i)
-        after = self._flags(i)
-        # Entered or left the view, or shown or hidden; or moved while seen.
-        matters = before != after or ((before[0] or before[1]) and not before[2])
-        self.version += matters
+        matters = not self.views or hidden != bool(self.hidden[i])
+        for view, was in zip(self.views.values(), before, strict=True):
+            # Entered or left the view, or moved while seen there.
+            if was != view.flags(i) or (any(was) and not hidden):
+                view.version += 1
+                matters = True
         return matters
 
-    def _flags(self, i):
-        if self.seen_for is None:
-            return (True, True, bool(self.hidden[i]))
-        return (bool(self.in_view[i]), bool(self.mirrored[i]), bool(self.hidden[i]))
-
-    def _see(self, rows):
-        camera, level = self.seen_for
-        boxes = self.boxes[rows]
-        mirrored = boxes * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * level)
-        seen = effects.boxes_in_view(camera, np.concatenate([boxes, mirrored]))
-        self.in_view[rows], self.mirrored[rows] = seen.reshape(2, -1)
-
     def facts_objects(self, camera, level, key):
-        """SceneObjects (effects.py) of the boxes in view or mirrored in view, heights relative
-        to the water `level`; the flags are recomputed for all only when (camera, level), whose
-        comparable form is `key`, changed."""
-        if self.seen_key != key:
-            self.seen_for, self.seen_key = (camera, level), key
-            self.in_view = np.zeros(len(self.objects), dtype=bool)
-            self.mirrored = np.zeros(len(self.objects), dtype=bool)
+        """(SceneObjects (effects.py) of the boxes in view or mirrored in view, their compact
+        key), heights relative to the water `level`; the flags are computed for all only for a
+        (camera, level), whose comparable form is `key`, not seen lately."""
+        view = self.views.pop(key, None)
+        if view is None:
+            view = _View(camera, level, len(self.objects))
             if self.objects:
-                self._see(np.arange(len(self.objects)))
-            self.version += 1
-        version, facts = self._facts
-        if version == self.version:
-            return facts
-        rows = np.flatnonzero((self.in_view | self.mirrored) & ~self.hidden)
+                view.see(self.boxes, np.arange(len(self.objects)))
+        self.views[key] = view
+        while len(self.views) > self.VIEWS:
+            self.views.pop(next(iter(self.views)))
+        if view.facts is not None and view.facts[0] == view.version:
+            return view.facts[1]
+        rows = np.flatnonzero((view.in_view | view.mirrored) & ~self.hidden)
         z = self.boxes[rows, :, 2] - level
         objects = [effects.SceneObject(self.names[i], float(lo), float(hi),
-                                       bool(self.in_view[i]), self.boxes[i],
-                                       bool(self.mirrored[i]))
+                                       bool(view.in_view[i]), self.boxes[i],
+                                       bool(view.mirrored[i]))
                    for i, lo, hi in zip(rows, z.min(axis=1), z.max(axis=1), strict=True)]
         facts = (objects, effects.objects_key(objects))
-        self._facts = (self.version, facts)
+        view.facts = (view.version, facts)
         return facts
+
+
+class _View:
+    """Which boxes are in view, or mirrored in the water at `level` in view, of a camera."""
+
+    def __init__(self, camera, level, count):
+        self.camera, self.level = camera, level
+        self.in_view = np.zeros(count, dtype=bool)
+        self.mirrored = np.zeros(count, dtype=bool)
+        self.version, self.facts = 0, None
+
+    def see(self, boxes, rows):
+        picked = boxes[rows]
+        mirrored = picked * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * self.level)
+        seen = effects.boxes_in_view(self.camera, np.concatenate([picked, mirrored]))
+        self.in_view[rows], self.mirrored[rows] = seen.reshape(2, -1)
+
+    def flags(self, i):
+        return bool(self.in_view[i]), bool(self.mirrored[i])
 
 
 def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, settings):

@@ -1,5 +1,7 @@
 """`obj.projgrid`: an ocean's settings (all animatable and overridable), registered on Object."""
 
+from contextlib import contextmanager
+
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
 
@@ -10,9 +12,21 @@ from .state import RUNTIME
 OVERRIDABLE = {"LIBRARY_OVERRIDABLE"}  # a library override of an ocean keeps its own settings
 
 
+@contextmanager
+def batch():
+    """Set several settings with one rebuild (by the caller, after): none per setting."""
+    RUNTIME.batching = True
+    try:
+        yield
+    finally:
+        RUNTIME.batching = False
+
+
 def _settings_changed(self, context):
     """Rebuild at once with the values just set (the evaluated copy is updated only later)."""
     obj = self.id_data
+    if RUNTIME.batching:
+        return
     if context.scene is not None and obj.projgrid.is_ocean and not RUNTIME.rendering:
         frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get(), settings=self)
 
@@ -48,6 +62,34 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     """`obj.projgrid`: the ocean's settings (all animatable) and the effects on this frame."""
 
     is_ocean: BoolProperty(name="Is Ocean", default=False, options={"HIDDEN"})
+    height_source: EnumProperty(
+        name="Waves", default="PERLIN", update=_settings_changed, override=OVERRIDABLE,
+        description="What makes the waves",
+        items=(("SPECTRUM", "Spectrum", "The sea's wave spectrum for the wind, fetch and swell "
+                "(JONSWAP; Horvath 2015), synthesised with FFTs: waves travel with the wind"),
+               ("PERLIN", "Noise", "Fractal noise (the thesis's height field): each octave "
+                "travels with the wind at its wave speed; the cheap path")))
+    spectrum: EnumProperty(
+        name="Spectrum", default="JONSWAP", update=_settings_changed, override=OVERRIDABLE,
+        description="The wave spectrum of the wind's sea",
+        items=(("JONSWAP", "JONSWAP", "A wind sea over its fetch; fully developed "
+                "(Pierson-Moskowitz) at fetch 0"),
+               ("PIERSON_MOSKOWITZ", "Pierson-Moskowitz", "A fully developed sea"),
+               ("PHILLIPS", "Phillips", "Tessendorf's spectrum, as Blender's Ocean modifier")))
+    wind_direction: _float("Wind Direction", "Where the wind blows toward, counter-clockwise "
+                           "from +X; the waves travel with it", 0.0, -1e4, 1e4, 6.2832,
+                           "ROTATION", subtype="ANGLE", soft_min=-6.2832)
+    fetch: _float("Fetch", "How far the wind has blown over open water; 0: as far as it takes "
+                  "to raise a fully developed sea", 0.0, 0.0, 1e8, 5e5, "LENGTH")
+    choppiness: _float("Choppiness", "How far points move toward the crests, sharpening them: "
+                       "1 is Tessendorf's lambda = 1", 0.0, 0.0, 4.0, 2.0)
+    swell_height: _float("Swell Height", "Significant height of a swell from far away (0: "
+                         "none)", 0.0, 0.0, 50.0, 8.0, "LENGTH")
+    swell_direction: _float("Swell Direction", "Where the swell travels toward, "
+                            "counter-clockwise from +X", 0.0, -1e4, 1e4, 6.2832, "ROTATION",
+                            subtype="ANGLE", soft_min=-6.2832)
+    swell_period: _float("Swell Period", "Seconds between the swell's crests", 10.0, 1.0, 40.0,
+                         20.0, "TIME_ABSOLUTE")
     resolution_x: _int("Resolution X", "Grid vertices across the screen in the viewport",
                        65, 2, 8193, 1025)
     resolution_y: _int("Resolution Y", "Grid vertices up the screen in the viewport",
@@ -73,8 +115,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
         description="How heights are evaluated (docs/benchmarks.md has the cost and the error)",
         items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
                ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
-    wind_speed: _float("Wind Speed", "Wind at 10 m above the sea; sets the whitecap coverage of "
-                       "the foam (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+    wind_speed: _float("Wind Speed", "Wind at 10 m above the sea: raises the waves of the "
+                       "spectrum and sets the foam's whitecap coverage (Monahan and Mac "
+                       "Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
     foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
     contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")
     underwater: _mode("underwater", "Snell's window and absorption fog with the camera below "

@@ -37,6 +37,7 @@ class Runtime:
 
     surfaces: dict = field(default_factory=dict)  # session_uid -> SurfaceState
     rendering: bool = False
+    batching: bool = False  # settings being set together (settings.batch): no rebuild each
     live_view: tuple | None = None  # (view, proj) of the 3D view the live preview follows
     stand_ins: dict = field(default_factory=dict)  # appearance key -> stand-in's name_full
     object_count: int = -1  # bpy.data.objects' length at the last check for deleted oceans

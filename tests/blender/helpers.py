@@ -14,9 +14,14 @@ def positions(mesh):
     return co.reshape(-1, 3)
 
 
-def add_ocean():
+def add_ocean(source=None):
+    """Add Ocean (the spectral sea at its default force), or with `source` "PERLIN" the noise
+    (for the tests of the noise's own settings: amplitude, octaves, the exact path)."""
     assert bpy.ops.projgrid.add_ocean() == {"FINISHED"}
-    return bpy.context.active_object
+    obj = bpy.context.active_object
+    if source is not None:
+        obj.projgrid.height_source = source
+    return obj
 
 
 class RenderCapture:

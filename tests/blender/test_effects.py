@@ -28,10 +28,12 @@ def add_box(name, location, size=2.0):
 
 @pytest.fixture
 def ocean():
-    """A camera 6 m up looking along +Y a little down, and the ocean at z = 0 (with its sun)."""
+    """A camera 6 m up looking along +Y a little down, and the ocean at z = 0 (with its sun),
+    under a light wind (3 m/s: whitecaps too rare for foam)."""
     scene = bpy.context.scene
     add_camera(scene)
     obj = add_ocean()
+    obj.projgrid.wind_speed = 3.0
     scene.frame_set(1)
     return obj
 
@@ -62,10 +64,12 @@ def test_sun_below_the_horizon_or_off_mutes_the_glint(ocean):
 def test_wind_brings_foam_and_calm_computes_none(ocean, bridge, monkeypatch):
     calls = []
     effects = import_module(f"{MODULE}.projgrid_addon.effects")
-    real = effects.foam_amount
-    monkeypatch.setattr(effects, "foam_amount", lambda *a: calls.append(1) or real(*a))
+    real = effects.whitecaps
+    monkeypatch.setattr(effects, "whitecaps", lambda *a: calls.append(1) or real(*a))
     bpy.context.scene.frame_set(2)
     assert calls == [] and "projgrid_foam" not in ocean.data.attributes  # calm: no foam work
+    # Whitecaps cover 1.7 % of the sea at 15 m/s: a grid with vertices enough to catch them.
+    ocean.projgrid.resolution_x = ocean.projgrid.resolution_y = 257
     ocean.projgrid.wind_speed = 15.0
     assert "FOAM" in ocean.projgrid.active_effects and calls
     assert effect_lines(ocean)["foam"].startswith("on: wind 15 m/s")
@@ -195,7 +199,7 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
 def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
     calls = []
     effects = import_module(f"{MODULE}.projgrid_addon.effects")
-    for name in ("contact_foam", "caustic_intensity", "caustic_tile", "foam_threshold",
+    for name in ("contact_foam", "caustic_intensity", "caustic_tile", "foam_thresholds",
                  "receiving_depth"):
         real = getattr(effects, name)
         monkeypatch.setattr(effects, name,

@@ -48,12 +48,10 @@ def test_shader_time_is_driven_not_written(bridge):
         evaluated = mat.evaluated_get(bpy.context.evaluated_depsgraph_get())
         values.append(evaluated.node_tree.nodes["Projected Grid Water"]
                       .inputs["Detail Time"].default_value)
+    detail = bridge.scene.height_field(obj.projgrid).shader_detail(
+        *bridge.state.RUNTIME.state(obj).grid.shader_octaves)
     assert driver.expression == bridge.frame.water.drive_expression(
-        bridge.frame.shading.detail(bridge.scene.height_field(obj.projgrid),
-                                    bridge.state.RUNTIME.state(obj).grid.shader_octaves)
-        .time_rate * bridge.scene.seconds_per_frame(scene))  # unchanged since frame 2
-    detail = bridge.frame.shading.detail(bridge.scene.height_field(obj.projgrid),
-                                         bridge.state.RUNTIME.state(obj).grid.shader_octaves)
+        detail.time_rate * bridge.scene.seconds_per_frame(scene))  # unchanged since frame 2
     seconds = 28 * bridge.scene.seconds_per_frame(scene)
     assert np.isclose(values[1] - values[0], detail.time_rate * seconds, rtol=1e-5)
 

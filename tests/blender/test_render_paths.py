@@ -29,7 +29,7 @@ def animated(tmp_path):
     """An ocean whose amplitude and camera are keyframed over frames 1..3."""
     scene = bpy.context.scene
     cam = add_camera(scene)
-    obj = add_ocean()
+    obj = add_ocean("PERLIN")  # its amplitude, keyframed
     s = obj.projgrid
     s.render_resolution_x, s.render_resolution_y = RENDER_RES
     s.amplitude = 0.05

@@ -18,8 +18,11 @@ import pytest
 
 from tools.demo import default_shot, eevee_engine
 
+pytestmark = pytest.mark.slow  # EEVEE renders: `make test-fast` leaves them out
+
 REFERENCE = os.path.join(os.path.dirname(__file__), "reference",
                          "{}.{}".format(*bpy.app.version[:2]))
+UPDATING = bool(os.environ.get("PROJGRID_UPDATE_REFERENCES"))
 MEAN_TOL = 0.02
 OUTLIER_TOL, OUTLIER_SHARE = 0.1, 0.02
 
@@ -51,11 +54,23 @@ def render_shot(name, tmp_path):
 
 
 def compare_with_reference(name, path):
+    """Compare with the committed reference; with PROJGRID_UPDATE_REFERENCES set, write it
+    instead (the test then skips at its end, `done_updating`: a picture compared with itself
+    proves nothing)."""
     ref = os.path.join(REFERENCE, f"{name}.png")
+    if UPDATING:
+        os.makedirs(REFERENCE, exist_ok=True)
+        oiio.ImageBuf(path).write(ref)
+        return
     assert os.path.exists(ref), f"no reference {ref}: run with PROJGRID_UPDATE_REFERENCES=1"
     diff = np.abs(read(path) - read(ref))
     outliers = float((diff.max(axis=-1) > OUTLIER_TOL).mean())
     assert diff.mean() <= MEAN_TOL and outliers <= OUTLIER_SHARE, (diff.mean(), outliers)
+
+
+def done_updating():
+    if UPDATING:
+        pytest.skip("references written: look at them before committing")
 
 
 def luminance(img):
@@ -65,9 +80,6 @@ def luminance(img):
 @pytest.mark.parametrize("name", SHOTS)
 def test_shot(name, tmp_path):
     path = render_shot(name, tmp_path)
-    if os.environ.get("PROJGRID_UPDATE_REFERENCES"):
-        os.makedirs(REFERENCE, exist_ok=True)
-        oiio.ImageBuf(path).write(os.path.join(REFERENCE, f"{name}.png"))
     img = luminance(read(path))
     assert np.isfinite(img).all() and img.std() > 0.003  # a picture, not a flat colour
     if name == "horizon":
@@ -84,6 +96,33 @@ def test_shot(name, tmp_path):
         water = img[110:]
         assert np.percentile(water, 99.5) > 2.0 * np.median(water)
     compare_with_reference(name, path)
+    done_updating()
+
+
+SEA_STATES = (2, 5, 8)  # Beaufort: light breeze, fresh breeze, gale
+
+
+def test_sea_states(tmp_path):
+    """Each Beaufort preset against its reference (camera 20 m up, the sun behind it: no glint),
+    and the pictures follow the wind: the water's contrast (slopes turning the reflected sky) and
+    its whitecaps grow with the force."""
+    scene = bpy.context.scene
+    cam = default_shot(scene, size=(240, 135), samples=4, height=20.0, pitch=-12.0)
+    cam.rotation_euler.z = math.radians(180.0)
+    contrast, white = [], []
+    for force in SEA_STATES:
+        bpy.ops.projgrid.sea_state(beaufort=force)
+        scene.frame_set(24)
+        path = str(tmp_path / f"beaufort_{force}.png")
+        scene.render.filepath = path
+        bpy.ops.render.render(write_still=True)
+        compare_with_reference(f"beaufort_{force}", path)
+        water = luminance(read(path))[60:]  # below the horizon (row 39 at 12° down)
+        contrast.append(float(water.std()))
+        white.append(float((water > 0.6).mean()))  # brighter than any sky the water mirrors
+    assert contrast[0] < contrast[1] < contrast[2], contrast
+    assert white[0] < 0.0005 and white[0] < white[1] < white[2] and white[2] > 0.003, white
+    done_updating()
 
 
 FRESNEL = {"outside": ((0.0, -6.0, 0.0), (90.0, 0.0, 0.0)),  # sees front faces

@@ -1,12 +1,15 @@
 """Camera poses and the properties every grid must have (used by the stability suite)."""
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
 from projgrid_addon.camera import orthographic, perspective, view_matrix
 from projgrid_addon.projector import heading_vector
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
 
 
 @dataclass
@@ -32,6 +35,9 @@ class Pose:
     elevation: float = 0.0
     resolution: tuple = (17, 33)
     method: str = "fast"  # of the height field
+    choppiness: float = 0.0
+    wind_direction: float = 0.0  # radians
+    wind_speed: float = 0.0  # > 0: the spectral sea at this wind instead of the noise
 
     def camera(self):
         p, y, r = np.radians([self.pitch, self.yaw, self.roll])
@@ -52,8 +58,11 @@ class Pose:
         return Camera(view, proj)
 
     def height_field(self):
+        if self.wind_speed > 0.0:
+            return _spectral(self.wind_speed, self.wind_direction, self.choppiness)
         return HeightField(amplitude=self.amplitude, wave_scale=40.0, octaves=self.octaves,
-                           roughness=self.roughness, speed=1.0, seed=7, method=self.method)
+                           roughness=self.roughness, speed=1.0, seed=7, method=self.method,
+                           choppiness=self.choppiness, wind_direction=self.wind_direction)
 
     def build(self, camera=None, **kw):
         camera = camera or self.camera()
@@ -61,6 +70,12 @@ class Pose:
         return camera, build_grid(camera, self.height_field(), level=self.level, time=self.time,
                                   resolution=self.resolution, projector_elevation=self.elevation,
                                   **kw)
+
+
+@lru_cache(maxsize=8)
+def _spectral(wind_speed, wind_direction, choppiness):
+    return SpectralField(SeaState(wind_speed=wind_speed, wind_direction=wind_direction),
+                         choppiness=choppiness, seed=7)
 
 
 def _ulp32(a):
@@ -135,7 +150,14 @@ def screen_points(n=7):
 
 def check_coverage(camera, result, level, bound, n=7):
     """Rays crossing the whole displaceable volume within the clip range hit the mesh; rays whose
-    clipped segment stays outside the volume do not."""
+    clipped segment stays outside the volume do not.
+
+    The volume is the slab the mesh's vertices lie in when that is thinner than the bound: rays
+    from a camera inside the bound's slab cross it too, so a gap near the camera shows.
+    """
+    if result.visible and len(result.positions):
+        reach = np.abs(result.positions[:, 2].astype(np.float64) + result.origin[2] - level).max()
+        bound = min(bound, float(reach))
     ndc = screen_points(n)
     near, far = camera.rays(ndc)
     lo, hi = level - bound, level + bound
@@ -172,6 +194,9 @@ def check_result(camera, result, level, bound):
     assert 0.0 <= result.efficiency <= 1.0
 
     world = result.positions.astype(np.float64) + result.origin
+    # The projector's grid on S_base: the points before a choppy displacement moved them.
+    flat = world if result.base is None else np.column_stack(
+        [result.base[0].ravel(), result.base[1].ravel(), world[:, 2]])
     # Heights inside the displaceable volume (up to float32 rounding of the stored coordinate).
     dz = np.abs(world[:, 2] - level)
     assert np.all(dz <= bound * (1 + 1e-6) + 2 * _ulp32(result.positions[:, 2])), "height > bound"
@@ -183,7 +208,7 @@ def check_result(camera, result, level, bound):
     if not pr.orthographic:
         corners = pr.corner_points(level)
         assert np.all(corners[:, 3] > 0), "backfiring: a grid corner lies behind the projector"
-        base = world.copy()
+        base = flat.copy()
         base[:, 2] = level
         depth = (base - pr.position) @ pr.forward
         slack = 4 * _ulp32(np.abs(result.positions).max(axis=1))
@@ -193,7 +218,7 @@ def check_result(camera, result, level, bound):
     # Consistent winding: every flat triangle is counter-clockwise seen from above, but for
     # triangles smaller than the float32 rounding of their coordinates.
     q = grid_topology(nx, ny)
-    p = world[:, :2]
+    p = flat[:, :2]
     ulp = _ulp32(np.abs(result.positions[:, :2]).max(axis=1))
     for tri in ([0, 1, 2], [0, 2, 3]):
         a, b, c = p[q[:, tri[0]]], p[q[:, tri[1]]], p[q[:, tri[2]]]
@@ -205,7 +230,8 @@ def check_result(camera, result, level, bound):
     # Normals: unit length, pointing up.
     length = np.linalg.norm(result.normals, axis=1)
     assert np.allclose(length, 1.0, atol=1e-5), "normals not unit"
-    assert np.all(result.normals[:, 2] > 0), "normal pointing down"
+    if result.base is None:  # a choppy surface may fold over: its normals then turn down
+        assert np.all(result.normals[:, 2] > 0), "normal pointing down"
 
     # Corner interpolation equals the per-vertex ray-plane intersection.
     x0, x1, y0, y1 = pr.span
@@ -223,7 +249,7 @@ def check_result(camera, result, level, bound):
         direction = ndc[:, :1] * right + ndc[:, 1:] * up - back
     t = (level - start[:, 2]) / direction[:, 2]
     exact = start + t[:, None] * direction
-    err = np.linalg.norm(exact[:, :2] - world[:, :2], axis=1)
+    err = np.linalg.norm(exact[:, :2] - flat[:, :2], axis=1)
     reach = np.linalg.norm(exact - pr.position, axis=1)
     tol = 1e-7 * reach + 4 * _ulp32(np.abs(result.positions[:, :2]).max(axis=1))
     assert np.all(err <= tol), f"corner interpolation off by {(err / tol).max():.3g} x tolerance"

@@ -123,16 +123,22 @@ def test_boxes_in_view():
     assert effects.boxes_in_view(cam, boxes).tolist() == [True, False, True]
 
 
-def test_foam_threshold_matches_the_coverage_and_foam_is_deterministic():
+def test_whitecaps_cover_the_share_at_every_band_limit():
+    """The foam a vertex gets is calibrated at its own band limit, so the mean foam over the
+    sea is the coverage whatever detail the geometry holds, and none where it holds no wave."""
     hf = HeightField(amplitude=1.0, octaves=6)
-    t = effects.foam_threshold(hf, 3.0, 0.02)
+    calibration = effects.foam_thresholds(hf, 3.0, 0.02)
     x, y = np.random.default_rng(8).uniform(-5e3, 5e3, (2, 100_000))
-    h = hf.heights(x, y, 3.0)
-    assert np.mean(h > t) == pytest.approx(0.02, abs=0.01)
-    assert effects.foam_threshold(hf, 3.0, 0.02) == t
-    foam = effects.foam_amount(h, t, 0.1)
-    assert foam.dtype == np.float32 and foam.min() == 0.0 and foam.max() == 1.0
-    assert np.array_equal(foam > 0, h > t)
+    for lod in (1.0, 2.5, 4.0, 10.0):
+        lods = np.full(x.shape, lod, np.float32)
+        foam = effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods, calibration)
+        assert foam.dtype == np.float32 and 0.0 <= foam.min() and foam.max() <= 1.0
+        assert foam.mean() == pytest.approx(0.02, rel=0.3), lod
+    lods = np.zeros(x.shape, np.float32)  # no octave in the geometry: no foam there
+    assert effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods,
+                             calibration).max() == 0.0
+    again = effects.foam_thresholds(hf, 3.0, 0.02)
+    assert all(np.array_equal(a, b) for a, b in zip(calibration, again, strict=True))
 
 
 def unit_box(lo, hi):

@@ -44,10 +44,13 @@ def test_every_core_module_imports_and_runs_without_bpy(module):
 def test_the_core_runs_a_frame_without_bpy():
     code = ("import sys; sys.modules['bpy'] = None; import numpy as np; "
             "from projgrid_addon import Camera, HeightField, build_grid, look_at, perspective; "
-            "from projgrid_addon import effects, shading; "
+            "from projgrid_addon.spectral_field import SpectralField; "
+            "from projgrid_addon.spectrum import SeaState; "
             "c = Camera(look_at((0, 0, 5), (0, 50, 0)), perspective(1.0, 1.5, 0.1, 1e4)); "
             "r = build_grid(c, HeightField(), time=2.0, resolution=(17, 17)); "
-            "assert r.visible and shading.detail(HeightField(), r.shader_octaves).scale > 0")
+            "assert r.visible and HeightField().shader_detail(*r.shader_octaves).scale > 0; "
+            "s = SpectralField(SeaState(wind_speed=8.0), choppiness=1.0); "
+            "assert build_grid(c, s, time=2.0, resolution=(17, 17)).base is not None")
     subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
 
 

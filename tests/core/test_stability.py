@@ -10,7 +10,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from projgrid_addon import Camera
+from projgrid_addon import Camera, displaceable_volume, projector
+from projgrid_addon.displaceable_volume import Extent
+from projgrid_addon.projected_grid import border_outside
 from projgrid_addon.projector import Projector
 
 from .grid_checks import (
@@ -56,7 +58,7 @@ class Draw:
         return lo + int(self.unit() * (hi - lo + 1))
 
 
-SLOTS = 40
+SLOTS = 48
 
 
 def pose_from_bytes(data):
@@ -102,6 +104,9 @@ def pose_from_bytes(data):
         # The fast path renders its textures per time slice (~3 ms a pose); the grid's geometry
         # is the same for either path, so most random poses take the exact one.
         method=d.pick("exact", "exact", "exact", "fast"),
+        # Choppy in one pose of two, up to past folding (lambda a k > 1 on the steep octaves).
+        choppiness=d.pick(0.0, d.uniform(0.0, 2.0)),
+        wind_direction=d.uniform(-np.pi, np.pi),
     )
     assert d.i <= SLOTS
     return pose
@@ -125,11 +130,19 @@ def nudged(pose, eps):
 # moved by a relative EPS (far above float64 rounding) and no vertex may move more than POP of its
 # distance from the projector (which stays above the volume, so the ratio never degenerates).
 # A continuous grid moves by about EPS times its conditioning; a jump does not shrink with EPS.
+# The nudged grid keeps the first one's displaceable volume: the volume fitted to the sea in view
+# changes in steps by design (the benchmark counts how often), the projector's maths must not.
 EPS = 1e-9
 POP = 1e-2
 
 
+# How often the popping check compared a nudged grid, of the poses it was given (printed at the
+# end of the run: its exclusions must not quietly swallow the suite).
+POPPING = {"poses": 0, "compared": 0}
+
+
 def check_no_popping(pose, result):
+    POPPING["poses"] += 1
     if not result.visible or pose.pitch + np.degrees(EPS) > 90.0:
         return
     camera = pose.camera()
@@ -137,9 +150,10 @@ def check_no_popping(pose, result):
     # singular poses are left out of this one property, as are views that see the surface edge-on.
     if heading_margin(camera) < 0.05 or seen_edge_on(camera, pose.level, pose.height_field().bound):
         return
-    _, moved = nudged(pose, EPS).build()
+    _, moved = nudged(pose, EPS).build(extent=result.extent)
     if not moved.visible:
         return
+    POPPING["compared"] += 1
     move, rounding = relative_moves(result, moved)
     jump = float(np.max(move - rounding))
     assert jump <= POP, f"popping: a vertex jumped {jump:.3g} of its reach"
@@ -155,6 +169,7 @@ def check_pose(pose, popping=True, **build):
     return camera, result
 
 
+@pytest.mark.slow
 @settings(max_examples=EXAMPLES, suppress_health_check=list(HealthCheck), deadline=None)
 @given(poses)
 def test_random_poses(pose):
@@ -200,6 +215,31 @@ NAMED = {
     "projector elevation": Pose(height=1.0, pitch=-5.0, elevation=40.0),
     "2x2 grid": Pose(resolution=(2, 2)),
     "tall narrow screen": Pose(aspect=0.25, fov=120.0, pitch=-2.0),
+    # Choppy: the grid widened by the displacement's bound still covers the screen, to its
+    # edges, whichever way the waves move the vertices.
+    "choppy at the horizon": Pose(pitch=0.0, height=2.0, choppiness=1.0, amplitude=2.0),
+    "choppy looking down": Pose(pitch=-90.0, height=5.0, choppiness=1.5, amplitude=2.0),
+    "choppy, wide, rolled": Pose(pitch=-20.0, fov=120.0, roll=30.0, choppiness=1.0,
+                                 amplitude=3.0, wind_direction=2.0),
+    "choppy from inside the volume": Pose(height=0.5, pitch=-10.0, choppiness=1.0,
+                                          amplitude=2.0),
+    "choppy orthographic": Pose(pitch=-45.0, ortho_scale=40.0, choppiness=1.0, amplitude=2.0),
+    "choppy under water": Pose(height=-3.0, pitch=40.0, choppiness=1.0, amplitude=1.0),
+    # The spectral sea: its bound is the tiles' extremes at the frame's time.
+    "spectrum at the horizon": Pose(pitch=0.0, height=2.0, wind_speed=12.0, choppiness=1.0),
+    "spectrum looking down": Pose(pitch=-90.0, height=30.0, wind_speed=20.0, choppiness=1.0),
+    "spectrum, gale, from inside the volume": Pose(height=1.0, pitch=-10.0, wind_speed=20.0,
+                                                   choppiness=1.0),
+    "spectrum from high up": Pose(height=2000.0, pitch=-30.0, wind_speed=10.0, far=1e6,
+                                  choppiness=0.8),
+    "spectrum under water": Pose(height=-4.0, pitch=35.0, wind_speed=8.0, choppiness=1.0),
+    "spectrum, calm, far from the origin": Pose(distance=5e5, height=3.0, wind_speed=3.0,
+                                                choppiness=0.5),
+    # Low cameras over a rough sea: the grid is built for the volume fitted to the sea in view.
+    "spectrum, moderate breeze, low camera": Pose(height=4.0, pitch=-4.0, fov=40.0,
+                                                  wind_speed=6.7, choppiness=0.6),
+    "spectrum, gale, low camera": Pose(height=4.0, pitch=-4.0, fov=40.0, wind_speed=19.0,
+                                       choppiness=1.0),
 }
 
 
@@ -223,11 +263,61 @@ def test_not_visible(name):
     assert not result.visible and result.positions.shape == (0, 3)
 
 
+@pytest.mark.slow
 def test_largest_grid():
     """2049 x 2049 vertices: every property but popping at full size (ray test on a coarse grid)."""
     pose = Pose(pitch=-8.0, height=6.0, resolution=(2049, 2049), amplitude=1.0)
     camera, result = check_pose(pose, popping=False)
     assert result.positions.shape == (2049 * 2049, 3)
+
+
+LOW_SHOTS = {  # wind m/s: a camera 4 m up looking 4 degrees down, the sea choppy
+    6.7: Pose(height=4.0, pitch=-4.0, fov=40.0, wind_speed=6.7, choppiness=0.6,
+              resolution=(33, 65), time=2.5),
+    12.3: Pose(height=6.0, pitch=-4.0, fov=40.0, wind_speed=12.3, choppiness=0.8,
+               resolution=(33, 65), time=2.5),
+}
+
+
+@pytest.mark.parametrize("wind", LOW_SHOTS)
+def test_the_fitted_volume_puts_the_vertices_in_view(wind):
+    """The true bounds of a spectral sea sum every band's extreme; a low camera's grid built for
+    them spends nearly every vertex under the screen. Built for the fitted volume it shows."""
+    pose = LOW_SHOTS[wind]
+    camera, fitted = check_pose(pose)
+    hf = pose.height_field().prepare(pose.time)
+    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    _, bounded = pose.build(extent=full)
+    assert fitted.fitted and fitted.extent.upper < 0.5 * full.upper
+    assert fitted.efficiency > max(0.3, 1.4 * bounded.efficiency), (bounded.efficiency,
+                                                                    fitted.efficiency)
+
+
+@pytest.mark.parametrize("wind", LOW_SHOTS)
+def test_the_projector_stands_back_from_a_sea_reaching_under_the_camera(wind, monkeypatch):
+    """Built for the true bounds, V_visible reaches under a low camera; a projector right above
+    the camera would spend nearly all its rows there."""
+    pose = LOW_SHOTS[wind]
+    hf = pose.height_field().prepare(pose.time)
+    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    _, back = check_pose(pose, extent=full)
+    monkeypatch.setattr(projector, "_standing_back", lambda *args: 0.0)
+    _, above = check_pose(pose, extent=full)
+    assert above.efficiency < 0.05 and back.efficiency > 0.15, (above.efficiency,
+                                                                back.efficiency)
+
+
+def test_a_fitted_volume_that_misses_the_sea_is_not_kept(monkeypatch):
+    """A volume too thin for the sea leaves a gap under the screen (the coverage check sees it);
+    the border check turns it down and the true bounds are used."""
+    pose = Pose(**{**LOW_SHOTS[6.7].__dict__, "time": 4.5})  # a crest under the screen's edge
+    camera, thin = pose.build(extent=Extent(0.05, 0.05, 0.05, fitted=True))
+    with pytest.raises(AssertionError, match="coverage"):
+        check_coverage(camera, thin, pose.level, pose.height_field().bound, n=33)
+    assert not border_outside(camera, thin)
+    monkeypatch.setattr(displaceable_volume, "FIT_MARGIN", -0.9)
+    camera, result = check_pose(pose)
+    assert not result.fitted and result.visible
 
 
 def naive_projector(camera, level, bound, elevation, base_points):

@@ -42,11 +42,13 @@ def main(quick=False, only=None):
         ("height_field", core_bench.height_field_paths),
         ("precision", core_bench.precision),
         ("efficiency", core_bench.efficiency),
+        ("sea_efficiency", lambda: core_bench.sea_efficiency(frames=12 if quick else 48)),
         ("accuracy", lambda: core_bench.accuracy(
             sizes=(33, 65) if quick else (33, 65, 129, 257),
             world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),
             image=(48, 27) if quick else (96, 54))),
         ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
+        ("sea", lambda: blender_bench.sea_cost(repeats=5 if quick else 15)),
         ("scene_update", lambda: blender_bench.scene_update_cost(
             counts=(0, 1000) if quick else (0, 1000, 10000), repeats=3 if quick else 7)),
         ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
@@ -55,6 +57,7 @@ def main(quick=False, only=None):
         ("render", lambda: blender_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
+        ("pictures", lambda: pictures(quick)),  # last: it starts from empty files
     ]
     if only:  # re-measure some steps, keep the others from the last run
         with open(RESULTS) as f:
@@ -76,6 +79,14 @@ def main(quick=False, only=None):
         json.dump(results, f, indent=1, default=_plain)
     path = report.write(results, DOCS)
     print(path)
+
+
+def pictures(quick):
+    """The side-by-side shots with Blender's Ocean modifier (tools/compare.py), into docs/."""
+    from tools import compare
+
+    return [{"state": state, "shot": shot, "path": os.path.relpath(path, DOCS)}
+            for state, shot, path in compare.shoot(DOCS, quick=quick)]
 
 
 def machine(bpy):

@@ -46,13 +46,15 @@ def projected_scene(n, noise="FAST"):
     return scene
 
 
-def ocean_modifier_scene(n):
-    scene = _scene(f"ocean modifier {n}")
+def ocean_modifier_scene(n, choppiness=0.0, foam=False, name=""):
+    scene = _scene(f"ocean modifier {n}{name}")
     obj = bpy.data.objects.new("Ocean Modifier", bpy.data.meshes.new("Ocean Modifier"))
     scene.collection.objects.link(obj)
     mod = obj.modifiers.new("Ocean", "OCEAN")
     mod.viewport_resolution = OCEAN_RES[n]
     mod.spatial_size = 200
+    mod.choppiness = choppiness
+    mod.use_foam = foam
     mod.time = 0.0
     mod.keyframe_insert("time", frame=1)
     mod.time = 100.0
@@ -95,6 +97,34 @@ def world_grid_handler(scene, depsgraph=None):
 def step(scene):
     """Advance a scene by one frame (a new time: nothing can be reused from the last frame)."""
     scene.frame_set(scene.frame_current + 1)
+
+
+def sea_cost(repeats=15):
+    """Per-frame time (frame_set) of the sea as artists set it: the spectral sea and the noise
+    at Beaufort 5 with their choppiness and whitecaps forced on, on a 257² grid, beside the
+    Ocean modifier at resolution 16 (257² vertices) with choppiness 1 and its foam; and the
+    spectral sea on the default viewport grid (65×129)."""
+    def ours(n, source, resolution=None):
+        scene = projected_scene(n)
+        obj = _ocean(scene)
+        with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0],
+                                       active_object=obj):
+            obj.projgrid.height_source = source
+            bpy.ops.projgrid.sea_state(beaufort=5)
+        obj.projgrid.foam = "ON"
+        if resolution:
+            obj.projgrid.resolution_x, obj.projgrid.resolution_y = resolution
+        return scene
+
+    scenes = {"spectrum 257², choppy, foam": ours(257, "SPECTRUM"),
+              "noise 257², choppy, foam": ours(257, "PERLIN"),
+              "Ocean modifier 16 (257²), choppy, foam":
+                  ocean_modifier_scene(257, choppiness=1.0, foam=True, name=" foam"),
+              "spectrum 65×129 (viewport)": ours(65, "SPECTRUM", (65, 129))}
+    times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
+    for s in scenes.values():
+        bpy.data.scenes.remove(s)
+    return [{"variant": k, "ms": v * 1e3} for k, v in times.items()]
 
 
 def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):

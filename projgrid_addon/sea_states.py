@@ -1,0 +1,92 @@
+"""Sea states by the Beaufort scale: the wind, fetch, choppiness and swell of each force.
+
+The wind is the middle of each force's range (WMO), at 10 m. Over open water the sea is fully
+developed (Pierson-Moskowitz) up to the height the WMO gives as probable for the force; a
+stronger wind rarely blows long enough over a fetch to raise its fully developed sea, so from
+force 6 on the fetch is the one whose JONSWAP sea has the WMO's probable height. Choppiness
+grows with the force (steeper, sharper crests), and a swell from elsewhere is always running.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import spectrum
+from .height_field import HeightField
+from .validation import integer
+
+# force: (name, wind m/s, WMO probable wave height m, swell height m, swell period s)
+BEAUFORT = {
+    0: ("Calm", 0.2, 0.0, 0.2, 8.0),
+    1: ("Light air", 0.9, 0.1, 0.2, 8.0),
+    2: ("Light breeze", 2.5, 0.2, 0.3, 8.0),
+    3: ("Gentle breeze", 4.4, 0.6, 0.5, 9.0),
+    4: ("Moderate breeze", 6.7, 1.0, 0.5, 9.0),
+    5: ("Fresh breeze", 9.4, 2.0, 0.7, 10.0),
+    6: ("Strong breeze", 12.3, 3.0, 1.0, 11.0),
+    7: ("Near gale", 15.5, 4.0, 1.0, 11.0),
+    8: ("Gale", 19.0, 5.5, 1.5, 13.0),
+    9: ("Strong gale", 22.6, 7.0, 2.0, 13.0),
+    10: ("Storm", 26.5, 9.0, 2.0, 14.0),
+}
+SWELL_TURN = np.radians(-30.0)  # the swell comes from a little off the wind
+
+
+@dataclass(frozen=True)
+class SeaPreset:
+    """What a Beaufort force sets on an ocean (`obj.projgrid`)."""
+
+    name: str
+    wind_speed: float
+    fetch: float
+    choppiness: float
+    swell_height: float
+    swell_period: float
+    amplitude: float  # the noise source's, for the same significant height
+    wave_scale: float  # the noise source's first octave: the peak wavelength
+
+
+def sea_state(force, wind_direction=0.0):
+    """The preset of Beaufort `force` (0 to 10), the wind blowing toward `wind_direction`."""
+    force = integer("beaufort", force, 0, 10)
+    name, wind, probable, swell, period = BEAUFORT[force]
+    fetch = 0.0
+    developed = spectrum.significant_height(spectrum.SeaState(wind_speed=wind))
+    if developed > probable > 0.0 and force >= 6:
+        fetch = _fetch_for(wind, probable)
+    state = spectrum.SeaState(wind_speed=wind, wind_direction=wind_direction, fetch=fetch)
+    height = spectrum.significant_height(state)
+    peak = 2.0 * np.pi * spectrum.GRAVITY / spectrum.peak_frequency(state) ** 2
+    return SeaPreset(name=name, wind_speed=wind, fetch=fetch,
+                     choppiness=round(min(1.0, 0.2 + 0.1 * force), 2), swell_height=swell,
+                     swell_period=period, amplitude=height / (4.0 * _noise_sigma()),
+                     wave_scale=peak)
+
+
+def swell_direction(wind_direction):
+    return wind_direction + SWELL_TURN
+
+
+def _fetch_for(wind, height):
+    """The fetch (m) at which the JONSWAP sea of `wind` has significant height `height`."""
+    lo, hi = 1e2, spectrum.full_fetch(wind)
+    for _ in range(60):  # bisection in log fetch: the height grows with the fetch
+        mid = np.sqrt(lo * hi)
+        if spectrum.significant_height(spectrum.SeaState(wind_speed=wind, fetch=mid)) < height:
+            lo = mid
+        else:
+            hi = mid
+    return float(np.sqrt(lo * hi))
+
+
+_SIGMA = []
+
+
+def _noise_sigma():
+    """The standard deviation of the noise height field with amplitude 1 (its default octaves
+    and roughness), measured once over a wide stretch of it."""
+    if not _SIGMA:
+        hf = HeightField(amplitude=1.0, wave_scale=40.0)
+        x, y = np.random.default_rng(0).uniform(-4e3, 4e3, (2, 50_000))
+        _SIGMA.append(float(hf.heights(x, y, 0.0).std()))
+    return _SIGMA[0]

@@ -1,0 +1,327 @@
+"""The spectral height source: the sea synthesised from its spectrum with FFTs (Tessendorf,
+*Simulating Ocean Water*), in cascades, as a height field the projected grid samples (§1.6).
+
+The wavelengths are cut into bands a factor BAND_RATIO apart, from BAND_LONGEST down to a few
+tens of centimetres, and each band is synthesised in periodic tiles of TEXELS^2 samples sized so
+that its shortest wave spans 8 to 10 samples. No band is counted twice: a tile holds only its
+band's wave vectors (`Cascade`). A tile repeats, and where a band holds much of the sea's
+energy its repetition would show (the surface's autocorrelation at the tile's period is the
+tile's share of the variance), so such a band's energy is shared among several tiles of sizes
+that are not multiples of each other (TILE_RATIOS), each turned by its own angle and with its
+own phases: no tile holds more than SHARE_PER_TILE of the variance, and the tiles' lattices
+never line up, so they never repeat together.
+
+    h(k, t) = h0(k) e^(-i omega t) + conj(h0(-k)) e^(i omega t),   omega^2 = g |k|
+    h0(k)   = e^(i phi_k) sqrt(E(k) dk^2 / 2)                        (phi_k: a random phase)
+
+so each wave travels along its k at its own phase speed and the height variance is the integral
+of E (spectrum.wavenumber_spectrum). The amplitudes are the spectrum's own and only the phases
+are random, so every seed has the spectrum's significant height. The choppy displacement
+moves points toward the crests, D(x) = sum of i lambda (k / |k|) h e^(i k.x) (Tessendorf §4.4,
+with the sign that sharpens the crests), and the surface folds where its Jacobian,
+(1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue.
+
+A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the
+seed alone, so frame N is the same computed alone or after 1..N-1, on any machine.
+"""
+
+from functools import lru_cache
+
+import numpy as np
+
+from . import shading, spectrum
+from .band_limit import octave_weights, row_jobs
+from .scratch import CHUNK, scratch
+from .tiles import Lookup, periodic_patches
+from .validation import finite, integer, non_negative
+
+TEXELS = 64  # samples across a tile
+BAND_LONGEST = 1300.0  # m: the longest waves synthesised (a storm's peak is about 600 m)
+BAND_RATIO = 4.17  # each band's longest wave over its shortest
+BANDS = 6  # down to BAND_LONGEST / 4.17^6, 0.25 m: shorter waves are the shader's
+SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 95 % of it
+# A band's tiles are its base size times these: not multiples of each other, and at most 1.28
+# times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
+TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
+SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
+BIG = 2  # how many times more texels (and metres) a band holding more than that has
+# Fields a tile can give: height, displacement x and y, and the displacement's derivatives.
+FIELDS = ("h", "dx", "dy", "dxx", "dyy", "dxy")
+GEOMETRY = (0, 1, 2)
+FOLDING = (3, 4, 5)
+
+
+def bands():
+    """(shortest, longest) wavelength of each band, longest first (m)."""
+    return [(BAND_LONGEST / BAND_RATIO ** (b + 1), BAND_LONGEST / BAND_RATIO**b)
+            for b in range(BANDS)]
+
+
+def band_shares(state):
+    """Each band's share of the sea's height variance (the waves longer than BAND_LONGEST
+    count with the first band, the shorter than the last band's with none)."""
+    edges = [2.0 * np.pi / lo for lo, _ in bands()]  # wavenumbers of the bands' short ends
+    omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *edges]))
+    parts = []
+    for a, b in zip(omega[:-1], omega[1:], strict=True):
+        w = np.linspace(max(a, 1e-4), b, 4000)
+        parts.append(float(spectrum.integrate(spectrum.wind_spectrum(w, state)
+                                              + spectrum.swell_spectrum(w, state), w)))
+    total = sum(parts)
+    return [p / total if total > 0.0 else 0.0 for p in parts]
+
+
+@lru_cache(maxsize=64)
+def _phases(seed, band, tile, texels):
+    """e^(i phi) per wave vector of one tile, phi uniform: fixed by the seed alone."""
+    rng = np.random.default_rng(np.random.SeedSequence([int(seed) & 0xFFFFFFFF, band, tile]))
+    out = np.exp(2j * np.pi * rng.random((texels, texels)))
+    out.setflags(write=False)
+    return out
+
+
+@lru_cache(maxsize=8)
+def _lattice(texels):
+    """Integer wave-vector coordinates (nx, ny) of an FFT grid, and the index of -n."""
+    n = np.fft.fftfreq(texels, 1.0 / texels)
+    nx, ny = np.meshgrid(n, n)
+    return nx, ny, (-np.arange(texels)) % texels
+
+
+class Cascade:
+    """One tile `size` metres across, turned by `angle` (radians) on the sea, holding the wave
+    vectors of a band (wavelengths between `shortest` and `longest`) with `share` of the band's
+    energy. Its lattice is the tile's; its wave vectors, and so its fields, are the world's."""
+
+    def __init__(self, size, angle, shortest, longest, share, state, phases, texels):
+        self.size, self.shortest = float(size), float(shortest)
+        self.texels = texels
+        self.turn = (np.cos(angle), np.sin(angle))
+        nx, ny, neg = _lattice(texels)
+        dk = 2.0 * np.pi / self.size
+        c, s = self.turn
+
+        def world(ax, ay):  # a tile lattice wave vector, turned onto the sea
+            return (c * ax - s * ay) * dk, (s * ax + c * ay) * dk
+        lo, hi = self.size / longest, self.size / shortest  # band edges in lattice units
+        # Each wave vector stands for its lattice cell: its energy is the mean over the cell
+        # (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
+        # plane exactly and the sum over the lattice is the spectrum's integral even where the
+        # lattice is coarse against the peak and the spreading.
+        sub = (np.arange(4) + 0.5) / 4.0 - 0.5
+        energy = np.zeros(nx.shape)
+        for a in sub:
+            for b in sub:
+                n = np.hypot(nx + a, ny + b)
+                inside = (n >= lo) & (n < hi)
+                energy += np.where(inside, spectrum.wavenumber_spectrum(
+                    *world(nx + a, ny + b), state), 0.0)
+        energy *= share / 16.0
+        self.h0 = phases * (np.sqrt(0.5 * energy) * dk)
+        self.h0_neg_conj = np.conj(self.h0[neg][:, neg])
+        self.kx, self.ky = world(nx, ny)
+        k = np.hypot(self.kx, self.ky)
+        self.omega = np.sqrt(spectrum.GRAVITY * k)
+        safe = np.where(k > 0.0, k, 1.0)
+        self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
+        self.empty = not np.any(energy > 0.0)
+
+    def fields(self, t, choppiness, which, fold):
+        """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
+        t, {index: texture}, and the largest |h| and |(dx, dy)| of the samples (0 where those
+        fields were not asked for). The folding fields are those of choppiness `fold`."""
+        phase = np.exp(-1j * self.omega * t)
+        h = self.h0 * phase + self.h0_neg_conj * np.conj(phase)
+        lam = choppiness
+        spectra = {0: lambda: h, 1: lambda: 1j * lam * self.ux * h,
+                   2: lambda: 1j * lam * self.uy * h, 3: lambda: -fold * self.kx * self.ux * h,
+                   4: lambda: -fold * self.ky * self.uy * h,
+                   5: lambda: -fold * self.kx * self.uy * h}
+        wanted = sorted(which)
+        real = {}
+        for i in range(0, len(wanted), 2):  # two real fields per complex transform
+            a = wanted[i]
+            b = wanted[i + 1] if i + 1 < len(wanted) else None
+            both = spectra[a]()
+            if b is not None:
+                both = both + 1j * spectra[b]()
+            both = np.fft.ifft2(both, norm="forward")
+            real[a] = both.real
+            if b is not None:
+                real[b] = both.imag
+        bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
+        side = float(np.hypot(real[1], real[2]).max()) if lam > 0.0 and 1 in real else 0.0
+        return {f: periodic_patches(real[f]) for f in which}, bound, side
+
+
+class SpectralField:
+    """A sea from its spectrum, sampled at world points: heights and choppy displacements.
+
+    `bound` and `horizontal_bound` are true bounds of what is sampled at the time last
+    `prepare`d (bilinear samples never exceed their tile's extremes).
+    """
+
+    def __init__(self, state, choppiness=0.0, seed=0, texels=TEXELS):
+        self.state = state
+        self.choppiness = non_negative("choppiness", choppiness)
+        self.seed = integer("seed", seed, 0, 2**63)
+        self.texels = integer("texels", texels, 8, 1024)
+        if self.texels & (self.texels - 1):
+            raise ValueError(f"texels: must be a power of two, got {self.texels}")
+        self.cascades, self.levels = [], []
+        for b, ((shortest, longest), share) in enumerate(zip(bands(), band_shares(state),
+                                                             strict=True)):
+            if share < 1e-7:
+                continue
+            count = int(np.clip(np.ceil(share / SHARE_PER_TILE), 1, len(TILE_RATIOS)))
+            # A band holding much of the sea gets larger tiles: fewer repeats in view.
+            texels = self.texels * (BIG if share > SHARE_PER_TILE else 1)
+            base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples
+            for j in range(count):
+                # Turned evenly over the quarter turn a square lattice repeats in, so no two
+                # tiles' lattices line up (and the crests of a band never run along them all).
+                angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
+                cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
+                                  state, _phases(self.seed, b, j, texels), texels)
+                if not cascade.empty:
+                    self.cascades.append(cascade)
+                    self.levels.append(np.log2(1.0 / shortest) + 0.5)
+        # The band limit (band_limit.py) in units of 1 m: a band is kept whole while its shortest
+        # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.
+        self.wave_scale = 1.0
+        self.octaves = BANDS
+        # The folding the foam looks for: the displayed choppiness, or Tessendorf's lambda = 1
+        # on a sea drawn without it (its crests still break).
+        self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
+        self._prepared = None
+        self._shares = band_shares(state)
+        self._m0 = spectrum.moments(state)[0]
+
+    foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
+
+    @property
+    def first_level(self):
+        """The band limit below which no band is in the geometry."""
+        return min(self.levels) if self.levels else 0.0
+
+    @property
+    def longest_wave(self):
+        return max(c.size for c in self.cascades) / 2.0 if self.cascades else 0.0
+
+    def foam_levels(self):
+        """The band limits at which the foam is calibrated: none, then each band whole."""
+        whole = sorted({level + 1.0 for level in self.levels})
+        return [whole[0] - 1.0, *whole] if whole else [0.0]
+
+    def foam_cue(self, xy, t, lod=None):
+        """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
+        lowest (Jensen and Golias)."""
+        return -self.jacobian(xy, t, lod)
+
+    def shader_octaves(self, lod):
+        """(first, count): the bands some vertex left out, in part or whole."""
+        if lod is None or not self.levels:
+            return BANDS, 0
+        low = float(lod.min())
+        out = [b for b, (shortest, _) in enumerate(bands())
+               if np.log2(1.0 / shortest) + 0.5 + 1.0 > low]
+        first = out[0] if out else BANDS
+        return first, BANDS - first
+
+    def shader_detail(self, first, count):
+        """The bands from `first` on as the shader's noise (shading.Detail): two octaves a band,
+        from the band's longest wave, each half the height of the one before (the spectrum's
+        tail), as high as those bands' share of the sea's height."""
+        if count <= 0 or first >= BANDS:
+            return shading.Detail(first=BANDS, scale=1.0, octaves=0.0, roughness=0.5,
+                                  height=0.0, time_rate=0.0)
+        longest = bands()[first][1]
+        sigma = np.sqrt(self._m0 * sum(self._shares[first:]))
+        return shading.Detail(first=int(first), scale=1.0 / longest,
+                              octaves=float(2 * count - 1), roughness=0.5, height=2.0 * sigma,
+                              time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * longest))))
+
+    def wavelength(self, octave):
+        return self.wave_scale / 2.0**octave
+
+    def prepare(self, t, fields=GEOMETRY):
+        """The tiles' fields at time t: made once per time, each field when first asked for."""
+        t = finite("time", t)
+        if self._prepared is None or self._prepared[0] != t:
+            made = [c.fields(t, self.choppiness, GEOMETRY, self.fold) for c in self.cascades]
+            self.textures = [m[0] for m in made]
+            self._bound = sum(m[1] for m in made)
+            self._side = sum(m[2] for m in made)
+            self._prepared = (t, set(GEOMETRY))
+        missing = set(fields) - self._prepared[1]
+        if missing:
+            for cascade, textures in zip(self.cascades, self.textures, strict=True):
+                textures.update(cascade.fields(t, self.choppiness, missing, self.fold)[0])
+            self._prepared[1].update(missing)
+        return self
+
+    @property
+    def bound(self):
+        return self._bound if self._prepared is not None else 0.0
+
+    @property
+    def horizontal_bound(self):
+        return self._side if self._prepared is not None else 0.0
+
+    def sample(self, xy, t, lod=None, fields=(0,)):
+        """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
+        each band weighted by the band limit (`lod`, as the grid gives it, or None): a
+        (len(fields), ...) float64 array."""
+        self.prepare(t, fields)
+        xy = np.asarray(xy, dtype=np.float64)
+        shape = xy.shape[1:]
+        rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
+        out = np.zeros((len(fields),) + shape)
+        xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(fields),) + rows)
+        lod2 = None if lod is None else np.asarray(lod).reshape(rows)
+        step = max(1, CHUNK // out2.shape[-1])
+        for start in range(0, out2.shape[1], step):
+            band = slice(start, start + step)
+            self._sum(xy2[:, band], None if lod2 is None else lod2[band], fields, out2[:, band])
+        return out
+
+    def _sum(self, xy, lod, fields, out):
+        for cascade, level, textures in zip(self.cascades, self.levels, self.textures,
+                                            strict=True):
+            job = row_jobs(lod, level)
+            if job is None:
+                continue
+            rows, weighted = job
+            c, s = cascade.turn
+            turned = scratch("turned", xy[:, rows].shape, np.float64)  # into the tile's frame
+            np.multiply(xy[0, rows], c, out=turned[0])
+            turned[0] += s * xy[1, rows]
+            np.multiply(xy[1, rows], c, out=turned[1])
+            turned[1] -= s * xy[0, rows]
+            where = Lookup(cascade.texels, turned, cascade.texels / cascade.size)
+            weight = None
+            if weighted:
+                weight = octave_weights(lod[rows], level,
+                                        scratch("weights", lod[rows].shape, lod.dtype))
+            for i, f in enumerate(fields):
+                v = where.sample(textures[f])
+                if weight is not None:
+                    v *= weight
+                out[i, rows] += v
+
+    def displacement(self, xy, t, lod=None):
+        """(h, (dx, dy) or None) at world points xy (2, ...): the height and, with choppiness,
+        the horizontal displacement."""
+        if self.choppiness == 0.0:
+            return self.sample(xy, t, lod, (0,))[0], None
+        h, dx, dy = self.sample(xy, t, lod, GEOMETRY)
+        return h, np.stack([dx, dy])
+
+    def heights(self, x, y, t, lod=None):
+        x = np.asarray(x, dtype=np.float64)
+        return self.sample(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod, (0,))[0]
+
+    def jacobian(self, xy, t, lod=None):
+        """The choppy surface's Jacobian at world points xy (2, ...): 1 flat, < 0 folded."""
+        dxx, dyy, dxy = self.sample(xy, t, lod, FOLDING)
+        return (1.0 + dxx) * (1.0 + dyy) - dxy * dxy
