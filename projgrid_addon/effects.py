@@ -14,6 +14,10 @@ the water's shadow transparency, so the scene's sun projects them onto whatever 
 Under water, light is absorbed per channel with distance, e^(-a d) (Fleck Eq. 17), and scattered
 toward the water colour (Eq. 14). Local reflections are what the camera mirrored in the water
 sees (`mirror_capture`).
+
+Over 300 lines on purpose: the decisions (`decide`) and the fields they turn on share
+SceneFacts and the constants each decision's reason quotes; split, each half would import the
+other's.
 """
 
 from dataclasses import dataclass, field

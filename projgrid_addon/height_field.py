@@ -15,6 +15,9 @@ to 0 over one octave as a mip-map would. noise_i is normalised so that |noise_i|
 Two evaluation paths give the same function: "exact" evaluates the gradient noise per point (the
 reference); "fast" is the thesis's path, which renders each octave into a tileable texture per frame
 and samples it bilinearly (error measured in tests/core/test_height_field.py).
+
+Over 300 lines on purpose: the two paths, the bounds and the travel share one octave table and
+must stay the same function; they are tested side by side.
 """
 
 from collections import OrderedDict

@@ -23,6 +23,9 @@ with the sign that sharpens the crests), and the surface folds where its Jacobia
 
 A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the
 seed alone, so frame N is the same computed alone or after 1..N-1, on any machine.
+
+Over 300 lines on purpose: a cascade (one tile's band of the spectrum) and the field summing
+the cascades share the band layout, the phases and the band limit.
 """
 
 from functools import lru_cache

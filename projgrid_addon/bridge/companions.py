@@ -6,6 +6,9 @@ than once (one stand-in per instance): a local object of ours with its own mesh 
 (the ocean's mesh drawn again with our caustic shadow material) and the reflection probe. A
 surface (an ocean drawing itself, or a stand-in) points to its companions from its settings.
 Everything here writes only objects and data of ours.
+
+Over 300 lines on purpose: stand-ins and companions share one lifecycle (made, followed,
+mended, removed) and the rule that only our own data is written.
 """
 
 import bpy

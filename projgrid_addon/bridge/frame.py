@@ -10,7 +10,7 @@ import numpy as np
 from ...shaders import water
 from ...shaders.nodes import assign
 from .. import Camera, build_grid, effects, memory
-from . import companions, mesh, scene
+from . import companions, mesh, objects, scene, shot
 from .state import RUNTIME
 
 
@@ -96,16 +96,16 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     try:
         res = scene.resolution(settings, render)
         camera = view or (None if render else RUNTIME.live_view)
-        camera = camera or scene.camera_for(the_scene, depsgraph, frame_change=frame_change)
+        camera = camera or shot.camera_for(the_scene, depsgraph, frame_change=frame_change)
         world = app.world(depsgraph)
-        to_local = scene.ocean_axes(world)
+        to_local = shot.ocean_axes(world)
         level = world[2, 3]
-        t = scene.scene_time(the_scene)
+        t = shot.scene_time(the_scene)
         hf = scene.height_field(settings).prepare(t)
         cam = Camera(*camera)
-        sun = scene.sun_lamp(the_scene, depsgraph, render)
+        sun = objects.sun_lamp(the_scene, depsgraph, render)
         camera_key = cam.view.tobytes() + cam.proj.tobytes()
-        facts = scene.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
+        facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
                                   settings)
         key = (render, res, camera_key, world.tobytes(), t,
                tuple(getattr(settings, p) for p in scene.SETTINGS), surface.data.session_uid,
@@ -118,7 +118,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         volume_reach = (float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                         else 100.0)
         sun_colour = tuple(sun.data.color) if sun is not None else None
-        per_frame = scene.seconds_per_frame(the_scene)
+        per_frame = shot.seconds_per_frame(the_scene)
 
         # Build (thesis §2.4), decide the effects, compute the fields of those on.
         start = time.perf_counter()

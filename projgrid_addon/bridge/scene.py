@@ -1,4 +1,6 @@
-"""Reading the scene: where oceans show, the rendering camera, the time, the sun, the objects.
+"""Reading the scene: the oceans and their height sources, what is kept between viewport
+updates, and where oceans show (the camera and the time: shot.py; the sun and the objects:
+objects.py).
 
 Nothing here writes Blender data. What a viewport update did not touch is kept from the last
 one (`SceneCache`): the list of oceans, where they show, the sun lamp, and the objects' world
@@ -13,8 +15,7 @@ import bpy
 import numpy as np
 
 from ...shaders.nodes import TAG
-from .. import HeightField, effects, shading
-from ..camera import blender_projection, rigid_view
+from .. import HeightField, effects
 from ..projected_grid import check_resolution
 from ..spectral_field import SpectralField
 from ..spectrum import SeaState
@@ -98,7 +99,7 @@ class SceneCache:
     oceans: list = field(default_factory=list)
     appearances: list = field(default_factory=list)
     sun: object = None
-    boxes: object = None  # ObjectBoxes, made on first use
+    boxes: object = None  # objects.ObjectBoxes, made on first use
 
 
 def _file_cache(scene):
@@ -145,7 +146,7 @@ def _object_changed(cache, obj):
     return cache.boxes.refresh(obj)
 
 
-def _valid(scene):
+def valid_cache(scene):
     """The scene's cache, rebuilt if dropped or if an object it holds was deleted."""
     cache = _file_cache(scene)
     if cache.valid:
@@ -167,7 +168,7 @@ def _valid(scene):
 
 def generation(scene):
     """A number that changes whenever the scene's structure may have (see SceneCache)."""
-    return _valid(scene).generation
+    return valid_cache(scene).generation
 
 
 def drop_caches():
@@ -295,231 +296,8 @@ def _appearances(scene, oceans):
 
 def appearances(scene, only=None):
     """Every place an ocean (or only `only`) shows in `scene`, its background sets included."""
-    found = _valid(scene).appearances
+    found = valid_cache(scene).appearances
     return [a for a in found if a.ocean == only] if only is not None else list(found)
-
-
-# ---- The camera and the time -------------------------------------------------------------------
-
-def render_size(scene):
-    r = scene.render
-    pct = r.resolution_percentage / 100.0
-    return (max(1, round(r.resolution_x * pct)), max(1, round(r.resolution_y * pct)),
-            r.pixel_aspect_x, r.pixel_aspect_y)
-
-
-def scene_camera(scene, frame_change=True):
-    """The camera this frame renders with. On a frame change, the timeline markers' camera
-    switch, which Blender applies to `scene.camera` only after frame_change_post
-    (BKE_scene_camera_switch_find); between frames, the camera the user set."""
-    markers = [(m.frame, m.camera) for m in scene.timeline_markers
-               if m.camera is not None and not m.camera.hide_render]
-    if not markers or not frame_change:
-        return scene.camera
-    past = [m for m in markers if m[0] <= scene.frame_current]
-    if past:
-        return max(past, key=lambda m: m[0])[1]
-    return min(markers, key=lambda m: m[0])[1]
-
-
-def camera_for(scene, depsgraph, camera=None, frame_change=True):
-    """(view, proj) float64 of the camera rendering this frame (ValueError with a user message
-    if none or not usable), built from the camera's own settings: Blender's float32 matrix
-    loses the far corners for clip ranges wider than about 1e7 (camera.blender_projection)."""
-    cam = camera or scene_camera(scene, frame_change)
-    if cam is None:
-        raise ValueError("the scene has no camera (set one, or use Live Preview)")
-    cam_eval = cam.evaluated_get(depsgraph)
-    x, y, sx, sy = render_size(scene)
-    view = rigid_view(cam_eval.matrix_world)
-    if cam_eval.type != "CAMERA":  # a lamp or empty as the camera: Blender's defaults
-        proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
-        return view, np.array(proj, dtype=np.float64)
-    data = cam_eval.data
-    if data.type == "PANO":
-        raise ValueError(f"camera {cam.name!r} is panoramic; the projected grid needs a "
-                         "perspective or orthographic camera")
-    try:
-        proj = blender_projection(data.type == "ORTHO", data.lens, data.ortho_scale,
-                                  (data.sensor_width, data.sensor_height), data.sensor_fit,
-                                  (data.shift_x, data.shift_y),
-                                  (data.clip_start, data.clip_end), (x, y), (sx, sy))
-    except ValueError as e:
-        raise ValueError(f"camera {cam.name!r}: {e}") from None
-    return view, proj
-
-
-def scene_time(scene):
-    """Seconds at the current (sub)frame: Blender's scene time, time stretching included (the
-    frame times frame_map_old / frame_map_new: the `frame` drivers see), at the frame rate."""
-    r = scene.render
-    frame = (scene.frame_current + scene.frame_subframe) * r.frame_map_old / r.frame_map_new
-    return frame * seconds_per_frame(scene)
-
-
-def seconds_per_frame(scene):
-    """Seconds per unit of scene time (the drivers' `frame`)."""
-    return scene.render.fps_base / scene.render.fps
-
-
-def ocean_axes(world):
-    """The inverse of an ocean's linear transform (ValueError saying what to change if none)."""
-    linear = world[:3, :3]
-    if not np.all(np.isfinite(world)):
-        raise ValueError("the ocean object's transform is not finite: reset its location, "
-                         "rotation and scale")
-    lengths = np.sqrt((linear * linear).sum(axis=0))
-    zero = [axis for axis, length in zip("XYZ", lengths, strict=True) if length == 0.0]
-    # Independent axes: the volume they span is not negligible against their lengths.
-    if zero or abs(np.linalg.det(linear)) <= 1e-12 * lengths.prod():
-        axes = "/".join(zero) or "one axis"
-        raise ValueError(f"the ocean object's scale is zero on {axes}: give it a non-zero scale "
-                         "(the sea ignores its scale and rotation, but needs them invertible)")
-    return np.linalg.inv(linear)
-
-
-# ---- The sun and the objects -------------------------------------------------------------------
-
-def sun_lamp(scene, depsgraph, render):
-    """The first sun lamp of the scene that renders (evaluated), or None; in the viewport the
-    one found at the last structural change, unless a lamp changed since."""
-    if render:
-        found = _find_sun(scene)
-    else:
-        cache = _valid(scene)
-        if cache.sun is None:
-            cache.sun = _find_sun(scene) or False
-        found = cache.sun or None
-    return found.evaluated_get(depsgraph) if found is not None else None
-
-
-def _find_sun(scene):
-    for obj in scene.objects:
-        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
-            return obj
-    return None
-
-
-class ObjectBoxes:
-    """World bounding boxes of a scene's visible geometry (other than oceans and ours), and
-    which are in view or mirrored in view for each of the last few (camera, level) the oceans
-    showing asked about (`_View`), refreshed row by row; a view's facts are kept while nothing
-    in it or mirrored in it changes."""
-
-    VIEWS = 4  # two oceans, or a stand-in per instance, each keep their own flags
-
-    def __init__(self, scene, render, depsgraph=None):
-        self.render, self.depsgraph = render, depsgraph
-        self.objects = [o for o in scene.objects if self._counts(o)]
-        self.names = [o.name for o in self.objects]
-        self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
-        self.boxes = np.zeros((len(self.objects), 8, 3))
-        self.hidden = np.zeros(len(self.objects), dtype=bool)
-        self._local = np.empty(24, dtype=np.float32)
-        self.views = {}  # (camera key, level) -> _View, oldest first
-        for i in range(len(self.objects)):
-            self._read(i)
-
-    def _counts(self, obj):
-        return (obj.type in GEOMETRY_TYPES and not obj.projgrid.is_ocean and not owns(obj))
-
-    def _read(self, i):
-        obj = self.objects[i]
-        self.names[i] = obj.name
-        if self.depsgraph is not None:
-            obj = obj.evaluated_get(self.depsgraph)
-        self.hidden[i] = obj.hide_render if self.render else obj.hide_viewport
-        obj.bound_box.foreach_get(self._local)  # the evaluated geometry's box
-        world = np.array(obj.matrix_world, dtype=np.float64)
-        self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
-        for view in self.views.values():
-            view.see(self.boxes, np.array([i]))
-
-    def refresh(self, obj):
-        """Re-read an object an update touched; returns whether it may matter to the facts of
-        some view: it is in it or mirrored in it, before or after, or its visibility changed (an
-        unknown object is new: the cache is rebuilt at the next structural change)."""
-        i = self.index.get(obj.session_uid)
-        if i is None:
-            return True
-        before = [view.flags(i) for view in self.views.values()]
-        hidden = bool(self.hidden[i])
-        self._read(i)
-        matters = not self.views or hidden != bool(self.hidden[i])
-        for view, was in zip(self.views.values(), before, strict=True):
-            # Entered or left the view, or moved while seen there.
-            if was != view.flags(i) or (any(was) and not hidden):
-                view.version += 1
-                matters = True
-        return matters
-
-    def facts_objects(self, camera, level, key):
-        """(SceneObjects (effects.py) of the boxes in view or mirrored in view, their compact
-        key), heights relative to the water `level`; the flags are computed for all only for a
-        (camera, level), whose comparable form is `key`, not seen lately."""
-        view = self.views.pop(key, None)
-        if view is None:
-            view = _View(camera, level, len(self.objects))
-            if self.objects:
-                view.see(self.boxes, np.arange(len(self.objects)))
-        self.views[key] = view
-        while len(self.views) > self.VIEWS:
-            self.views.pop(next(iter(self.views)))
-        if view.facts is not None and view.facts[0] == view.version:
-            return view.facts[1]
-        rows = np.flatnonzero((view.in_view | view.mirrored) & ~self.hidden)
-        z = self.boxes[rows, :, 2] - level
-        objects = [effects.SceneObject(self.names[i], float(lo), float(hi),
-                                       bool(view.in_view[i]), self.boxes[i],
-                                       bool(view.mirrored[i]))
-                   for i, lo, hi in zip(rows, z.min(axis=1), z.max(axis=1), strict=True)]
-        facts = (objects, effects.objects_key(objects))
-        view.facts = (view.version, facts)
-        return facts
-
-
-class _View:
-    """Which boxes are in view, or mirrored in the water at `level` in view, of a camera."""
-
-    def __init__(self, camera, level, count):
-        self.camera, self.level = camera, level
-        self.in_view = np.zeros(count, dtype=bool)
-        self.mirrored = np.zeros(count, dtype=bool)
-        self.version, self.facts = 0, None
-
-    def see(self, boxes, rows):
-        picked = boxes[rows]
-        mirrored = picked * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * self.level)
-        seen = effects.boxes_in_view(self.camera, np.concatenate([picked, mirrored]))
-        self.in_view[rows], self.mirrored[rows] = seen.reshape(2, -1)
-
-    def flags(self, i):
-        return bool(self.in_view[i]), bool(self.mirrored[i])
-
-
-def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, settings):
-    """effects.SceneFacts of this frame: camera against the water, the objects in view, the
-    sun (`sun`: the evaluated lamp or None) and the wind. Heights are relative to the level."""
-    elevation = direction = None
-    if sun is not None:
-        direction = tuple(shading.sun_direction(sun.matrix_world))
-        elevation = shading.sun_elevation(direction)
-    needs_objects = (any(getattr(settings, e) == "AUTO" for e in OBJECT_EFFECTS)
-                     or any(getattr(settings, e) == "ON" for e in ("contact_foam", "caustics")))
-    objects, objects_key = [], None
-    if needs_objects:
-        if render:
-            boxes = ObjectBoxes(scene, True, depsgraph)
-        else:
-            cache = _valid(scene)
-            if cache.boxes is None:
-                cache.boxes = ObjectBoxes(scene, False)
-            boxes = cache.boxes
-        objects, objects_key = boxes.facts_objects(camera, level, (camera_key, level))
-    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
-                              wind_speed=settings.wind_speed, sun_elevation=elevation,
-                              objects=objects, sun_direction=direction,
-                              objects_key=objects_key)
 
 
 def resolution(settings, render):

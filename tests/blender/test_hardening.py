@@ -43,10 +43,10 @@ def expected_grid(bridge, scene, settings, level, render=True, origin=None):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     res = ((settings.render_resolution_x, settings.render_resolution_y) if render
            else (settings.resolution_x, settings.resolution_y))
-    read = bridge.scene
-    camera = core("projected_grid").Camera(*read.camera_for(scene, depsgraph))
+    camera = core("projected_grid").Camera(*bridge.shot.camera_for(scene, depsgraph))
     return core("projected_grid").build_grid(
-        camera, read.height_field(settings), level=level, time=read.scene_time(scene),
+        camera, bridge.scene.height_field(settings), level=level,
+        time=bridge.shot.scene_time(scene),
         resolution=res, projector_elevation=settings.projector_elevation,
         origin=np.array([0.0, 0.0, level] if origin is None else origin))
 
@@ -268,7 +268,7 @@ def test_wide_clip_ranges_give_a_finite_gap_free_grid(bridge, state, clip):
     p = positions(obj.data)
     assert len(p) == 65 * 129 and np.all(np.isfinite(p))
     # Gap-free: the nearest row spans the screen's width, the farthest reaches the horizon.
-    view, proj = bridge.scene.camera_for(scene, bpy.context.evaluated_depsgraph_get())
+    view, proj = bridge.shot.camera_for(scene, bpy.context.evaluated_depsgraph_get())
     clip_space = np.c_[p, np.ones(len(p))] @ (proj @ view).T
     ndc = clip_space[:, :2] / clip_space[:, 3:]
     assert ndc[:65, 0].min() <= -1.0 and ndc[:65, 0].max() >= 1.0
@@ -288,8 +288,8 @@ def test_float64_projection_equals_blenders(bridge, kind, fit):
     scene.render.resolution_x, scene.render.resolution_y = 500, 900
     scene.render.pixel_aspect_x = 2.0
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    _, ours = bridge.scene.camera_for(scene, depsgraph)
-    x, y, sx, sy = bridge.scene.render_size(scene)
+    _, ours = bridge.shot.camera_for(scene, depsgraph)
+    x, y, sx, sy = bridge.shot.render_size(scene)
     theirs = np.array(cam.evaluated_get(depsgraph).calc_matrix_camera(
         depsgraph, x=x, y=y, scale_x=sx, scale_y=sy))
     assert np.allclose(ours, theirs, rtol=1e-6, atol=1e-6)
@@ -555,7 +555,7 @@ def test_marker_camera_switch_is_followed_by_frame_set(bridge, state):
     scene.timeline_markers.new("B", frame=5).camera = second
     scene.frame_set(5)
     built = state(obj).camera[0]  # before any other evaluation rebuilds it
-    view = bridge.scene.camera_for(scene, bpy.context.evaluated_depsgraph_get(), second)[0]
+    view = bridge.shot.camera_for(scene, bpy.context.evaluated_depsgraph_get(), second)[0]
     assert np.array_equal(built, view)
 
 

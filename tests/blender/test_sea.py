@@ -87,7 +87,7 @@ def test_time_stretching_drives_the_shader_as_the_geometry(bridge):
     add_ocean()
     scene.render.frame_map_old, scene.render.frame_map_new = 100, 50
     scene.frame_set(10)
-    assert bridge.scene.scene_time(scene) == pytest.approx(20.0 / scene.render.fps)
+    assert bridge.shot.scene_time(scene) == pytest.approx(20.0 / scene.render.fps)
 
 
 def test_an_empty_as_the_camera_is_followed(state):

@@ -76,7 +76,7 @@ def world_grid_scene(n):
     scene.collection.objects.link(obj)
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
         depsgraph = bpy.context.evaluated_depsgraph_get()
-    extent = visible_extent(Camera(*bridge.scene.camera_for(scene, depsgraph)),
+    extent = visible_extent(Camera(*bridge.shot.camera_for(scene, depsgraph)),
                             HeightField(**WAVES))
     WORLD_GRIDS[scene.name] = (mesh, *world_grid_points(n, extent, WAVES["wave_scale"]))
     return scene
@@ -358,7 +358,7 @@ depsgraph = bpy.context.evaluated_depsgraph_get()
 n = nx * ny
 out = {}
 # The core alone: the grid's own arrays and the passes' buffers (NumPy reports to tracemalloc).
-camera = core.Camera(*bridge.scene.camera_for(scene, depsgraph))
+camera = core.Camera(*bridge.shot.camera_for(scene, depsgraph))
 hf = bridge.scene.height_field(obj.projgrid)
 tracemalloc.start()
 grid = core.build_grid(camera, hf, time=1.0, resolution=(nx, ny))

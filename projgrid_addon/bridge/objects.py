@@ -1,0 +1,150 @@
+"""Reading the sun and the objects around the water: the lamp the glint follows, the objects'
+world boxes (kept between viewport updates in the scene's cache), and the frame's
+effects.SceneFacts. Nothing here writes."""
+
+import numpy as np
+
+from .. import effects, shading
+from .scene import GEOMETRY_TYPES, OBJECT_EFFECTS, owns, valid_cache
+
+
+def sun_lamp(scene, depsgraph, render):
+    """The first sun lamp of the scene that renders (evaluated), or None; in the viewport the
+    one found at the last structural change, unless a lamp changed since."""
+    if render:
+        found = _find_sun(scene)
+    else:
+        cache = valid_cache(scene)
+        if cache.sun is None:
+            cache.sun = _find_sun(scene) or False
+        found = cache.sun or None
+    return found.evaluated_get(depsgraph) if found is not None else None
+
+
+def _find_sun(scene):
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN" and not obj.hide_render:
+            return obj
+    return None
+
+
+class ObjectBoxes:
+    """World bounding boxes of a scene's visible geometry (other than oceans and ours), and
+    which are in view or mirrored in view for each of the last few (camera, level) the oceans
+    showing asked about (`_View`), refreshed row by row; a view's facts are kept while nothing
+    in it or mirrored in it changes."""
+
+    VIEWS = 4  # two oceans, or a stand-in per instance, each keep their own flags
+
+    def __init__(self, scene, render, depsgraph=None):
+        self.render, self.depsgraph = render, depsgraph
+        self.objects = [o for o in scene.objects if self._counts(o)]
+        self.names = [o.name for o in self.objects]
+        self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
+        self.boxes = np.zeros((len(self.objects), 8, 3))
+        self.hidden = np.zeros(len(self.objects), dtype=bool)
+        self._local = np.empty(24, dtype=np.float32)
+        self.views = {}  # (camera key, level) -> _View, oldest first
+        for i in range(len(self.objects)):
+            self._read(i)
+
+    def _counts(self, obj):
+        return (obj.type in GEOMETRY_TYPES and not obj.projgrid.is_ocean and not owns(obj))
+
+    def _read(self, i):
+        obj = self.objects[i]
+        self.names[i] = obj.name
+        if self.depsgraph is not None:
+            obj = obj.evaluated_get(self.depsgraph)
+        self.hidden[i] = obj.hide_render if self.render else obj.hide_viewport
+        obj.bound_box.foreach_get(self._local)  # the evaluated geometry's box
+        world = np.array(obj.matrix_world, dtype=np.float64)
+        self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
+        for view in self.views.values():
+            view.see(self.boxes, np.array([i]))
+
+    def refresh(self, obj):
+        """Re-read an object an update touched; returns whether it may matter to the facts of
+        some view: it is in it or mirrored in it, before or after, or its visibility changed (an
+        unknown object is new: the cache is rebuilt at the next structural change)."""
+        i = self.index.get(obj.session_uid)
+        if i is None:
+            return True
+        before = [view.flags(i) for view in self.views.values()]
+        hidden = bool(self.hidden[i])
+        self._read(i)
+        matters = not self.views or hidden != bool(self.hidden[i])
+        for view, was in zip(self.views.values(), before, strict=True):
+            # Entered or left the view, or moved while seen there.
+            if was != view.flags(i) or (any(was) and not hidden):
+                view.version += 1
+                matters = True
+        return matters
+
+    def facts_objects(self, camera, level, key):
+        """(SceneObjects (effects.py) of the boxes in view or mirrored in view, their compact
+        key), heights relative to the water `level`; the flags are computed for all only for a
+        (camera, level), whose comparable form is `key`, not seen lately."""
+        view = self.views.pop(key, None)
+        if view is None:
+            view = _View(camera, level, len(self.objects))
+            if self.objects:
+                view.see(self.boxes, np.arange(len(self.objects)))
+        self.views[key] = view
+        while len(self.views) > self.VIEWS:
+            self.views.pop(next(iter(self.views)))
+        if view.facts is not None and view.facts[0] == view.version:
+            return view.facts[1]
+        rows = np.flatnonzero((view.in_view | view.mirrored) & ~self.hidden)
+        z = self.boxes[rows, :, 2] - level
+        objects = [effects.SceneObject(self.names[i], float(lo), float(hi),
+                                       bool(view.in_view[i]), self.boxes[i],
+                                       bool(view.mirrored[i]))
+                   for i, lo, hi in zip(rows, z.min(axis=1), z.max(axis=1), strict=True)]
+        facts = (objects, effects.objects_key(objects))
+        view.facts = (view.version, facts)
+        return facts
+
+
+class _View:
+    """Which boxes are in view, or mirrored in the water at `level` in view, of a camera."""
+
+    def __init__(self, camera, level, count):
+        self.camera, self.level = camera, level
+        self.in_view = np.zeros(count, dtype=bool)
+        self.mirrored = np.zeros(count, dtype=bool)
+        self.version, self.facts = 0, None
+
+    def see(self, boxes, rows):
+        picked = boxes[rows]
+        mirrored = picked * (1.0, 1.0, -1.0) + (0.0, 0.0, 2.0 * self.level)
+        seen = effects.boxes_in_view(self.camera, np.concatenate([picked, mirrored]))
+        self.in_view[rows], self.mirrored[rows] = seen.reshape(2, -1)
+
+    def flags(self, i):
+        return bool(self.in_view[i]), bool(self.mirrored[i])
+
+
+def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, settings):
+    """effects.SceneFacts of this frame: camera against the water, the objects in view, the
+    sun (`sun`: the evaluated lamp or None) and the wind. Heights are relative to the level."""
+    elevation = direction = None
+    if sun is not None:
+        direction = tuple(shading.sun_direction(sun.matrix_world))
+        elevation = shading.sun_elevation(direction)
+    needs_objects = (any(getattr(settings, e) == "AUTO" for e in OBJECT_EFFECTS)
+                     or any(getattr(settings, e) == "ON" for e in ("contact_foam", "caustics")))
+    objects, objects_key = [], None
+    if needs_objects:
+        if render:
+            boxes = ObjectBoxes(scene, True, depsgraph)
+        else:
+            cache = valid_cache(scene)
+            if cache.boxes is None:
+                cache.boxes = ObjectBoxes(scene, False)
+            boxes = cache.boxes
+        objects, objects_key = boxes.facts_objects(camera, level, (camera_key, level))
+    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
+                              wind_speed=settings.wind_speed, sun_elevation=elevation,
+                              objects=objects, sun_direction=direction,
+                              objects_key=objects_key)

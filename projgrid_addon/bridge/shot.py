@@ -1,0 +1,83 @@
+"""Reading the camera and the time: the camera rendering this frame as float64 matrices, the
+scene time (time stretching included), and the ocean's transform. Nothing here writes."""
+
+import numpy as np
+
+from ..camera import blender_projection, rigid_view
+
+
+def render_size(scene):
+    r = scene.render
+    pct = r.resolution_percentage / 100.0
+    return (max(1, round(r.resolution_x * pct)), max(1, round(r.resolution_y * pct)),
+            r.pixel_aspect_x, r.pixel_aspect_y)
+
+
+def scene_camera(scene, frame_change=True):
+    """The camera this frame renders with. On a frame change, the timeline markers' camera
+    switch, which Blender applies to `scene.camera` only after frame_change_post
+    (BKE_scene_camera_switch_find); between frames, the camera the user set."""
+    markers = [(m.frame, m.camera) for m in scene.timeline_markers
+               if m.camera is not None and not m.camera.hide_render]
+    if not markers or not frame_change:
+        return scene.camera
+    past = [m for m in markers if m[0] <= scene.frame_current]
+    if past:
+        return max(past, key=lambda m: m[0])[1]
+    return min(markers, key=lambda m: m[0])[1]
+
+
+def camera_for(scene, depsgraph, camera=None, frame_change=True):
+    """(view, proj) float64 of the camera rendering this frame (ValueError with a user message
+    if none or not usable), built from the camera's own settings: Blender's float32 matrix
+    loses the far corners for clip ranges wider than about 1e7 (camera.blender_projection)."""
+    cam = camera or scene_camera(scene, frame_change)
+    if cam is None:
+        raise ValueError("the scene has no camera (set one, or use Live Preview)")
+    cam_eval = cam.evaluated_get(depsgraph)
+    x, y, sx, sy = render_size(scene)
+    view = rigid_view(cam_eval.matrix_world)
+    if cam_eval.type != "CAMERA":  # a lamp or empty as the camera: Blender's defaults
+        proj = cam_eval.calc_matrix_camera(depsgraph, x=x, y=y, scale_x=sx, scale_y=sy)
+        return view, np.array(proj, dtype=np.float64)
+    data = cam_eval.data
+    if data.type == "PANO":
+        raise ValueError(f"camera {cam.name!r} is panoramic; the projected grid needs a "
+                         "perspective or orthographic camera")
+    try:
+        proj = blender_projection(data.type == "ORTHO", data.lens, data.ortho_scale,
+                                  (data.sensor_width, data.sensor_height), data.sensor_fit,
+                                  (data.shift_x, data.shift_y),
+                                  (data.clip_start, data.clip_end), (x, y), (sx, sy))
+    except ValueError as e:
+        raise ValueError(f"camera {cam.name!r}: {e}") from None
+    return view, proj
+
+
+def scene_time(scene):
+    """Seconds at the current (sub)frame: Blender's scene time, time stretching included (the
+    frame times frame_map_old / frame_map_new: the `frame` drivers see), at the frame rate."""
+    r = scene.render
+    frame = (scene.frame_current + scene.frame_subframe) * r.frame_map_old / r.frame_map_new
+    return frame * seconds_per_frame(scene)
+
+
+def seconds_per_frame(scene):
+    """Seconds per unit of scene time (the drivers' `frame`)."""
+    return scene.render.fps_base / scene.render.fps
+
+
+def ocean_axes(world):
+    """The inverse of an ocean's linear transform (ValueError saying what to change if none)."""
+    linear = world[:3, :3]
+    if not np.all(np.isfinite(world)):
+        raise ValueError("the ocean object's transform is not finite: reset its location, "
+                         "rotation and scale")
+    lengths = np.sqrt((linear * linear).sum(axis=0))
+    zero = [axis for axis, length in zip("XYZ", lengths, strict=True) if length == 0.0]
+    # Independent axes: the volume they span is not negligible against their lengths.
+    if zero or abs(np.linalg.det(linear)) <= 1e-12 * lengths.prod():
+        axes = "/".join(zero) or "one axis"
+        raise ValueError(f"the ocean object's scale is zero on {axes}: give it a non-zero scale "
+                         "(the sea ignores its scale and rotation, but needs them invertible)")
+    return np.linalg.inv(linear)
