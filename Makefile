@@ -27,6 +27,14 @@ $(VENV)/.bench: $(VENV)/.blender requirements/bench.txt
 	$(PY) $(PIP) -r requirements/bench.txt
 	touch $@
 
+# The demo needs Blender alone: no test tools.
+$(VENV)/.demo: requirements/demo.txt
+	$(call make_venv,3.13,$(VENV))
+	@echo "make demo: downloading Blender 5.2 as a Python module (about 1 GB) into $(VENV);" \
+	  "the first run only"
+	$(PY) $(PIP) -r requirements/demo.txt
+	touch $@
+
 $(VENV45)/.blender: requirements/blender-4.5.txt
 	$(call make_venv,3.11,$(VENV45))
 	$(PY45) $(PIP) -r requirements/blender-4.5.txt
@@ -56,7 +64,7 @@ lint: $(VENV)/.blender
 package: $(VENV)/.blender
 	$(PY) tools/package.py dist
 
-demo: $(VENV)/.blender
+demo: $(VENV)/.demo
 	$(PY) tools/demo.py out/ocean.png
 
 # Benchmarks: docs/benchmarks.md and docs/bench_*.png (QUICK=1: a short smoke run;

@@ -35,6 +35,7 @@ MODES = ("AUTO", "ON", "OFF")
 FOAM_MIN_COVERAGE = 5e-4
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
 NO_FOAM = 1e6
+FOAM_PERIOD = 1.0  # seconds between the foam's calibrations (foam_thresholds)
 # Absorption a (1/m) per RGB channel of clear coastal sea water (Fleck Eq. 17): red light is
 # gone after a few metres, blue travels tens.
 ABSORPTION = (0.45, 0.09, 0.06)
@@ -197,14 +198,14 @@ def foam_thresholds(source, time, coverage, samples=16384):
     band limit they are evaluated with, so a vertex's foam covers the wind's share of the sea
     whatever detail its geometry holds (Jensen and Golias put foam where the surface is high
     or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, spreads):
-    a spread is the cue's standard deviation there. Calibrated at whole seconds and
-    interpolated between (the sea's statistics hardly change in a second), so a frame is a
-    function of the settings and its time alone: a farm splitting frames renders the same
-    foam."""
+    a spread is the cue's standard deviation there. Calibrated every FOAM_PERIOD seconds and
+    interpolated between (4 s apart, a rare foam's share at a light wind drifted by 1.7 x
+    between them; each calibration costs about 0.2 s), so a frame is a function of the
+    settings and its time alone: a farm splitting frames renders the same foam."""
     coverage = min(max(float(coverage), 1e-6), 1.0)
-    t0 = float(np.floor(time))
-    a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + 1.0))
-    f = time - t0
+    t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
+    a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + FOAM_PERIOD))
+    f = (time - t0) / FOAM_PERIOD
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 
 

@@ -190,16 +190,21 @@ def _standing_back(camera, level, bound, height, g, base_points):
 
     V_visible reaches under a camera that is low against the sea's reach (`bound`), and a projector
     right above it would spend most of its rows on those points. Standing back, it sees none of
-    them steeper below it than the camera's steepest view ray or STEEPEST; fully for a camera up to
-    STAND_BACK - 1 times `bound` above the water, fading out by STAND_BACK times.
+    them steeper below it than the camera's steepest view ray or STEEPEST. Fully for a camera up
+    to STAND_BACK - 1 times `bound` above the water, fading out by STAND_BACK times, and only
+    while the camera looks along `g` (not for one upside down past straight down, whose heading
+    points behind its view); under the water by symmetry.
     """
     if camera.orthographic or bound <= 0.0 or len(base_points) == 0:
         return 0.0
-    low = float(np.clip(STAND_BACK - abs(camera.position[2] - level) / bound, 0.0, 1.0))
+    along = float(camera.forward[:2] @ g[:2])
+    low = float(np.clip(STAND_BACK - abs(camera.position[2] - level) / bound, 0.0, 1.0)
+                * np.clip(4.0 * along, 0.0, 1.0))
     if low == 0.0:
         return 0.0
-    rays = camera.corners[4:] - camera.corners[:4]
-    steepest = max(float(np.arctan2(-rays[:, 2], rays @ g).max()), STEEPEST)
+    rays = camera.corners[4:] - camera.corners[:4]  # steepest toward or away from the water
+    steepest = max(float(np.abs(np.arctan2(rays[:, 2], np.hypot(rays[:, 0], rays[:, 1]))).max()),
+                   STEEPEST)
     nearest = float(((base_points[:, :2] - camera.position[:2]) @ g[:2]).min())
     return low * max(0.0, height / np.tan(steepest) - nearest)
 

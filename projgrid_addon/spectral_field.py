@@ -46,6 +46,7 @@ SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 9
 # A band's tiles are its base size times these: not multiples of each other, and at most 1.28
 # times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
 TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
+FOAM_STEPS = 3  # foam calibrations over a band's fade-in (foam_levels)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
 BIG = 2  # how many times more texels (and metres) a band holding more than that has
 # Fields a tile can give: height, displacement x and y, and the displacement's derivatives.
@@ -212,9 +213,12 @@ class SpectralField:
         return max(c.size for c in self.cascades) / 2.0 if self.cascades else 0.0
 
     def foam_levels(self):
-        """The band limits at which the foam is calibrated: none, then each band whole."""
-        whole = sorted({level + 1.0 for level in self.levels})
-        return [whole[0] - 1.0, *whole] if whole else [0.0]
+        """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's
+        fade-in (band_limit.octave_weights: from its level to its level + 1), where the cue's
+        spread changes fast; between fades nothing changes, so the thresholds interpolate."""
+        steps = np.linspace(0.0, 1.0, FOAM_STEPS + 1)
+        levels = sorted({float(level + f) for level in self.levels for f in steps})
+        return levels or [0.0]
 
     def foam_cue(self, xy, t, lod=None):
         """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian

@@ -63,20 +63,30 @@ def default_shot(scene, size=(960, 540), samples=16, height=6.0, pitch=-6.0):
     return cam
 
 
+def say(what):
+    """One line of progress (on stderr: stdout is the image's path alone)."""
+    print(f"demo: {what}", file=sys.stderr, flush=True)
+
+
 def main(out):
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
     sys.path.insert(0, ROOT)
+    say("starting Blender (as a Python module)")
     import bpy
 
     from tools.package import build
 
+    say("building and installing the extension as a user does")
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
     default_shot(scene)
     scene.frame_set(24)
     scene.render.filepath = os.path.abspath(out)
+    say("rendering 960x540 with EEVEE on the CPU: compiling its shaders first takes 10-40 s, "
+        "the render about a minute")
     bpy.ops.render.render(write_still=True)
+    say("done")
     print(os.path.abspath(out))
 
 

@@ -60,17 +60,25 @@ def height_field(settings):
                          swell_direction=settings.swell_direction,
                          swell_period=settings.swell_period)
         return _spectral(state, settings.choppiness, settings.seed)
-    return HeightField(amplitude=settings.amplitude, wave_scale=settings.wave_scale,
-                       octaves=settings.octaves, roughness=settings.roughness,
-                       speed=settings.speed, seed=settings.seed,
-                       method=settings.noise.lower(), wind_direction=settings.wind_direction,
-                       choppiness=settings.choppiness)
+    return _noise(settings.amplitude, settings.wave_scale, settings.octaves, settings.roughness,
+                  settings.speed, settings.seed, settings.noise.lower(),
+                  settings.wind_direction, settings.choppiness)
 
 
 @lru_cache(maxsize=4)
 def _spectral(state, choppiness, seed):
     """A SpectralField per settings (making one evaluates its spectrum over every tile)."""
     return SpectralField(state, choppiness, seed)
+
+
+@lru_cache(maxsize=4)
+def _noise(amplitude, wave_scale, octaves, roughness, speed, seed, method, wind_direction,
+           choppiness):
+    """A HeightField per settings, kept so what it caches (its textures, the foam's
+    calibrations, which take 0.1 s a second of animation) serves the next frames."""
+    return HeightField(amplitude=amplitude, wave_scale=wave_scale, octaves=octaves,
+                       roughness=roughness, speed=speed, seed=seed, method=method,
+                       wind_direction=wind_direction, choppiness=choppiness)
 
 
 def ocean_objects(scene):

@@ -307,6 +307,20 @@ def test_the_projector_stands_back_from_a_sea_reaching_under_the_camera(wind, mo
                                                                 back.efficiency)
 
 
+def test_no_standing_back_for_a_camera_upside_down_past_straight_down():
+    """Its heading points behind its view: the steepest ray's angle against the heading wraps
+    at 180°, and standing back along it would jump (found in review)."""
+    pose = Pose(height=2.0, pitch=-60.0, roll=180.0, fov=120.0, amplitude=2.0, aspect=1.0,
+                far=1e3)
+    hf = pose.height_field().prepare(pose.time)
+    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    _, result = check_pose(pose, extent=full)
+    for eps in (-2e-7, 2e-7):
+        _, moved = Pose(**{**pose.__dict__, "pitch": pose.pitch + eps}).build(extent=full)
+        move, rounding = relative_moves(result, moved)
+        assert float(np.max(move - rounding)) <= POP
+
+
 def test_a_fitted_volume_that_misses_the_sea_is_not_kept(monkeypatch):
     """A volume too thin for the sea leaves a gap under the screen (the coverage check sees it);
     the border check turns it down and the true bounds are used."""

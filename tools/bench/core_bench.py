@@ -2,6 +2,7 @@
 geometric accuracy against the exact surface (per-pixel rays)."""
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -40,17 +41,36 @@ def timed(fn, repeats):
     return float(np.median(times))
 
 
+@dataclass(frozen=True)
+class Timing:
+    """Seconds per call of one variant: the median, the 10th percentile (what the work costs
+    when the shared machine leaves the process alone) and the median CPU time of the process
+    (wall time lost to other processes does not count in it)."""
+
+    median: float
+    p10: float
+    cpu: float
+
+    def ms(self, per=1.0):
+        """The row fields in milliseconds (per `per` units of work)."""
+        return {"ms": self.median * 1e3 / per, "p10_ms": self.p10 * 1e3 / per,
+                "cpu_ms": self.cpu * 1e3 / per}
+
+
 def interleaved(variants, repeats):
-    """Median seconds of each variant, measured round-robin so load changes hit all alike."""
+    """A Timing per variant, measured round-robin so load changes hit all alike."""
     for fn in variants.values():
         fn()
-    times = {name: [] for name in variants}
+    wall = {name: [] for name in variants}
+    cpu = {name: [] for name in variants}
     for _ in range(repeats):
         for name, fn in variants.items():
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             fn()
-            times[name].append(time.perf_counter() - start)
-    return {name: float(np.median(t)) for name, t in times.items()}
+            wall[name].append(time.perf_counter() - start)
+            cpu[name].append(time.process_time() - start_cpu)
+    return {name: Timing(float(np.median(wall[name])), float(np.percentile(wall[name], 10)),
+                         float(np.median(cpu[name]))) for name in variants}
 
 
 def height_field_paths(repeats=7):
@@ -67,13 +87,15 @@ def height_field_paths(repeats=7):
         fields[texels] = hf
         variants[f"fast, {texels} texels/cell"] = (lambda hf=hf: hf.heights(x, y, 7.0))
     times = interleaved(variants, repeats)
-    for name, seconds in times.items():
+    for name, timing in times.items():
         if name == "exact":
             err = np.zeros(1)
         else:
             hf = fields[int(name.split(", ")[1].split()[0])]
             err = np.abs(hf.heights(x, y, 7.0) - exact) / exact_hf.bound
-        rows.append({"path": name, "ms_per_million": seconds / len(x) * 1e9 / 1e3,
+        per_million = {k.replace("ms", "ms_per_million"): v
+                       for k, v in timing.ms(per=len(x) / 1e6).items()}
+        rows.append({"path": name, **per_million,
                      "rms_error": float(np.sqrt(np.mean(err**2))), "max_error": float(err.max())})
     return rows
 
@@ -91,9 +113,9 @@ def octave_cost(resolutions=((65, 129), (257, 257)), octaves=(0, 1, 2, 4, 6, 8, 
                 hf = HeightField(method=method, **{**WAVES, "octaves": n})
                 variants[n] = (lambda hf=hf, res=res: build_grid(cam, hf, time=3.0,
                                                                  resolution=res))
-            for n, seconds in interleaved(variants, repeats).items():
+            for n, timing in interleaved(variants, repeats).items():
                 rows.append({"resolution": res, "method": method, "octaves": n,
-                             "ms": seconds * 1e3})
+                             **timing.ms()})
     return rows
 
 
@@ -314,7 +336,7 @@ def accuracy(sizes=(33, 65, 129, 257), world_sizes=(33, 65, 129, 257, 513), imag
                 pts = origins[both] + dirs[both] * t_mesh[both, None]
                 px, vertical = screen_error(cam, pts, exact, t_time)
                 coverage_miss = float(np.mean(np.isnan(t_mesh) & ~np.isnan(t_true)))
-                rows.append({"shot": name, "mesh": kind, "n": n, "ms": times[kind] * 1e3,
+                rows.append({"shot": name, "mesh": kind, "n": n, **times[kind].ms(),
                              "px_mean": float(px.mean()) if px.size else float("nan"),
                              "px_p95": float(np.percentile(px, 95)) if px.size else float("nan"),
                              "m_mean": float(vertical.mean()) if px.size else float("nan"),
