@@ -220,6 +220,12 @@ class HeightField:
                               height=self.amplitude * self.roughness**first if count else 0.0,
                               time_rate=float(self.time_coordinate(first, 1.0)))
 
+    def ripple(self):
+        """No detail beyond `shader_detail`: every octave of the noise reaches the shader
+        through it (the spectral sea's `ripple` is its tail below the last band)."""
+        return shading.Detail(first=0, scale=1.0, octaves=0.0, roughness=0.5, height=0.0,
+                              time_rate=0.0), 0.0  # no wavelength: never shown
+
     def travel(self, octave, t):
         """How far octave i has travelled along the wind at time t: (dx, dy) in metres."""
         speed = np.sqrt(GRAVITY * self.wavelength(octave) / (2.0 * np.pi))

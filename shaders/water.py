@@ -36,7 +36,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 7  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 8  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
@@ -63,6 +63,11 @@ INPUTS = (  # name, socket type, default; the last group is written by the frame
     ("Detail Roughness", "NodeSocketFloat", 0.5),
     ("Detail Time", "NodeSocketFloat", 0.0),
     ("Detail First Octave", "NodeSocketFloat", 0.0),
+    ("Ripple Scale", "NodeSocketFloat", 1.0),
+    ("Ripple Height", "NodeSocketFloat", 0.0),
+    ("Ripple Octaves", "NodeSocketFloat", 0.0),
+    ("Ripple Time", "NodeSocketFloat", 0.0),
+    ("Ripple Reach", "NodeSocketFloat", 0.0),
 )
 
 
@@ -105,6 +110,19 @@ def _build(group):
     bump = g.node("ShaderNodeBump", {"Strength": fade, "Distance": i["Detail Height"],
                                      "Height": noise.outputs["Fac"]})
     normal = bump.outputs["Normal"]
+    # Ripples shorter than any wave the sea synthesises, within the reach where a pixel can
+    # show them, fading out over the next doubling of the distance.
+    ripple = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Ripple Time"],
+                                           "Scale": i["Ripple Scale"],
+                                           "Detail": i["Ripple Octaves"], "Roughness": 0.5},
+                    noise_dimensions="4D")
+    distance = g.node("ShaderNodeCameraData").outputs["View Distance"]
+    shown = g.math("SUBTRACT", g.math("LOGARITHM", g.math("MAXIMUM", i["Ripple Reach"], 1e-6),
+                                      2.0),
+                   g.math("LOGARITHM", g.math("MAXIMUM", distance, 1e-6), 2.0), clamp=True)
+    normal = g.node("ShaderNodeBump", {"Strength": shown, "Distance": i["Ripple Height"],
+                                       "Height": ripple.outputs["Fac"],
+                                       "Normal": normal}).outputs["Normal"]
 
     # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos.
     c = g.math("ABSOLUTE", g.vector("DOT_PRODUCT", normal, geo["Incoming"]))
@@ -319,12 +337,14 @@ def material_of(mesh):
 
 
 def update(mat, effects_on, sun_direction, sun_colour, sun_visible, detail_first, detail_scale,
-           detail_octaves, detail_roughness, detail_height, detail_time_per_frame):
+           detail_octaves, detail_roughness, detail_height, detail_time_per_frame,
+           ripple=(1.0, 0.0, 0.0, 0.0, 0.0)):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the sun (direction towards it, colour, whether above
     the horizon; direction and colour None: kept), and the left-out octaves as detail, whose time
     a driver advances with the frame (`detail_time_per_frame` per frame, subframes included), so
-    an animation writes nothing per frame."""
+    an animation writes nothing per frame. `ripple`: (scale, height, octaves, reach, time per
+    frame) of the waves shorter than any the sea synthesises."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -342,6 +362,12 @@ def update(mat, effects_on, sun_direction, sun_colour, sun_visible, detail_first
     assign(inputs["Detail Roughness"], default_value=float(detail_roughness))
     assign(inputs["Detail Height"], default_value=float(detail_height))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
+    scale, height, octaves, reach, per_frame = ripple
+    assign(inputs["Ripple Scale"], default_value=float(scale))
+    assign(inputs["Ripple Height"], default_value=float(height))
+    assign(inputs["Ripple Octaves"], default_value=float(octaves))
+    assign(inputs["Ripple Reach"], default_value=float(reach))
+    drive_by_frame(mat.node_tree, inputs["Ripple Time"], per_frame)
 
 
 def drive_expression(per_frame):

@@ -5,8 +5,8 @@ into docs/ (the benchmark's `pictures` step); alone: python -m tools.compare [ou
 The modifier gets Pierson-Moskowitz at the same wind (its JONSWAP takes a fetch it reads
 differently), its wave scale matched to our wind sea's significant height, the same wind
 direction and choppiness, and its own foam on; its tile is repeated as far as a render can hold.
-Both surfaces wear our water material, the modifier's without the shader detail the projected
-grid hands over, so what differs is the sea's shape and motion.
+Both surfaces wear our water material (its ripples too), the modifier's without the shader
+detail the projected grid hands over, so what differs is the sea's shape and motion.
 """
 
 import importlib

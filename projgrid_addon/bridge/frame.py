@@ -9,7 +9,7 @@ import numpy as np
 
 from ...shaders import water
 from ...shaders.nodes import assign
-from .. import Camera, build_grid, effects, memory
+from .. import Camera, build_grid, effects, memory, shading
 from . import companions, mesh, objects, scene, shot
 from .state import RUNTIME
 
@@ -136,6 +136,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)
                    if on["godrays"] else None)
         detail = hf.shader_detail(*result.shader_octaves)
+        ripple, ripple_wave = hf.ripple()
+        reach = shading.ripple_reach(cam.proj, shot.render_size(the_scene)[0], ripple_wave)
     except ValueError as e:
         mesh.empty(surface.data)
         return state.refused(str(e))
@@ -168,7 +170,9 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         water.update(material, in_use, direction, sun_colour,
                      direction is not None and direction[2] > 0.0, detail.first, detail.scale,
                      detail.octaves, detail.roughness, detail.height,
-                     detail.time_rate * per_frame)
+                     detail.time_rate * per_frame,
+                     (ripple.scale, ripple.height, ripple.octaves, reach,
+                      ripple.time_rate * per_frame))
     if making:
         if restructured:
             companions.ensure_companions(surface)

@@ -4,7 +4,8 @@ Pierson-Moskowitz, Monahan), and both height sources' travel with the wind."""
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects, spectrum
+from projgrid_addon import HeightField, effects, shading, spectral_field, spectrum
+from projgrid_addon.camera import orthographic, perspective
 from projgrid_addon.spectral_field import SHARE_PER_TILE, SpectralField
 from projgrid_addon.spectrum import GRAVITY, SeaState
 
@@ -178,6 +179,34 @@ def test_foam_covers_the_whitecap_share_and_stays_steady(u):
             means.append(foam.mean())
     for now, later in zip(means[:3], means[3:], strict=True):
         assert later == pytest.approx(now, rel=0.3)
+
+
+def test_the_ripples_are_the_spectrum_s_tail():
+    """The waves shorter than the last band come back as shading detail whose height is the
+    spectrum's own there: Pierson-Moskowitz's k⁻⁴ tail, σ² = α/4 (1/k₁² − 1/k₂²) with
+    α = 0.0081, whatever the wind (its saturation range); the bump's distance is σ over the
+    spread of Blender's noise."""
+    k1 = 2.0 * np.pi / spectral_field.bands()[-1][0]
+    k2 = k1 * 2.0**spectral_field.RIPPLE_OCTAVES
+    sigma = np.sqrt(0.0081 / 4.0 * (1.0 / k1**2 - 1.0 / k2**2))
+    for u in (5.0, 15.0):
+        detail, longest = SpectralField(SeaState(wind_speed=u)).ripple()
+        assert detail.height * shading.NOISE_FAC_STD == pytest.approx(sigma, rel=0.02)
+        assert 1.0 / detail.scale == pytest.approx(longest)
+    none, _ = HeightField().ripple()
+    assert none.height == 0.0
+
+
+def test_ripples_reach_as_far_as_a_pixel_shows_them():
+    """A 25 cm wave spans 4 pixels out to wavelength / (4 pixel angle)."""
+    proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+    pixel = 2.0 / (proj[0, 0] * 960)
+    assert shading.ripple_reach(proj, 960, 0.25) == pytest.approx(0.25 / (4 * pixel))
+    assert shading.ripple_reach(proj, 1920, 0.25) == pytest.approx(
+        2 * shading.ripple_reach(proj, 960, 0.25))
+    wide, narrow = orthographic(50.0, 1.0, 0.1, 100.0), orthographic(5000.0, 1.0, 0.1, 100.0)
+    assert shading.ripple_reach(wide, 960, 0.25) > 1e6
+    assert shading.ripple_reach(narrow, 960, 0.25) == 0.0
 
 
 def test_bad_sea_states_name_the_setting():
