@@ -32,6 +32,11 @@ class Extent:
     side: float = 0.0
     fitted: bool = False  # fitted to the sea in view, rather than the source's true bounds
 
+    @classmethod
+    def true_bounds(cls, source):
+        """A prepared height source's own bounds (§2.2): they hold everywhere."""
+        return cls(source.bound, source.bound, source.horizontal_bound)
+
     def __le__(self, other):
         return (self.lower <= other.lower and self.upper <= other.upper
                 and self.side <= other.side)

@@ -224,7 +224,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     args = (camera, hf, level, time, (nx, ny), elevation, band_limit, origin, aim)
     if extent is not None:
         return _grid(*args, extent)
-    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    full = Extent.true_bounds(hf)
     fitted = fitted_extent(camera, level, hf, time, full)
     if fitted is not None and not full <= fitted:
         result = _grid(*args, fitted)

@@ -28,7 +28,7 @@ Over 300 lines on purpose: a cascade (one tile's band of the spectrum) and the f
 the cascades share the band layout, the phases and the band limit.
 """
 
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -250,6 +250,11 @@ class SpectralField:
                               time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * longest))))
 
     def ripple(self):
+        """(shading.Detail, longest wavelength m) of the spectrum's tail: see `_ripple`."""
+        return self._ripple
+
+    @cached_property
+    def _ripple(self):
         """The waves shorter than the last band, which no tile holds, down RIPPLE_OCTAVES
         octaves, as shading detail (shading.Detail, `first` unused; shown within
         shading.ripple_reach of the camera), and the longest of them (m). Their height is the

@@ -286,7 +286,7 @@ def test_the_fitted_volume_puts_the_vertices_in_view(wind):
     pose = LOW_SHOTS[wind]
     camera, fitted = check_pose(pose)
     hf = pose.height_field().prepare(pose.time)
-    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    full = Extent.true_bounds(hf)
     _, bounded = pose.build(extent=full)
     assert fitted.fitted and fitted.extent.upper < 0.5 * full.upper
     assert fitted.efficiency > max(0.3, 1.4 * bounded.efficiency), (bounded.efficiency,
@@ -299,7 +299,7 @@ def test_the_projector_stands_back_from_a_sea_reaching_under_the_camera(wind, mo
     the camera would spend nearly all its rows there."""
     pose = LOW_SHOTS[wind]
     hf = pose.height_field().prepare(pose.time)
-    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    full = Extent.true_bounds(hf)
     _, back = check_pose(pose, extent=full)
     monkeypatch.setattr(projector, "_standing_back", lambda *args: 0.0)
     _, above = check_pose(pose, extent=full)
@@ -313,7 +313,7 @@ def test_no_standing_back_for_a_camera_upside_down_past_straight_down():
     pose = Pose(height=2.0, pitch=-60.0, roll=180.0, fov=120.0, amplitude=2.0, aspect=1.0,
                 far=1e3)
     hf = pose.height_field().prepare(pose.time)
-    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+    full = Extent.true_bounds(hf)
     _, result = check_pose(pose, extent=full)
     for eps in (-2e-7, 2e-7):
         _, moved = Pose(**{**pose.__dict__, "pitch": pose.pitch + eps}).build(extent=full)

@@ -189,7 +189,7 @@ def sea_efficiency(forces=(4, 6, 8), frames=48, resolution=(65, 129)):
                 last = r.extent
                 if frame % 12 == 0:
                     hf = waves.prepare(t)
-                    full = Extent(hf.bound, hf.bound, hf.horizontal_bound)
+                    full = Extent.true_bounds(hf)
                     bounded.append(build_grid(cam, waves, time=t, resolution=resolution,
                                               extent=full).efficiency)
             rows.append({"force": force, "shot": name,
