@@ -236,6 +236,16 @@ class HeightField:
         """max |f_HF|: amplitude * sum alpha^i, since every octave is normalised to |noise| <= 1."""
         return self.amplitude * sum(self.roughness**i for i in range(self.octaves))
 
+    @property
+    def spread(self):
+        """(standard deviation of f_HF, root mean square of the choppy displacement), m: the
+        octaves are independent noises, so their variances add (noise.NOISE_STD,
+        noise.GRADIENT_RMS per lattice unit, lambda / (2 pi) per lattice unit of slope)."""
+        gains = self.amplitude / _noise.NOISE_BOUND * np.sqrt(
+            sum(self.roughness ** (2 * i) for i in range(self.octaves)))
+        return (float(gains * _noise.NOISE_STD),
+                float(gains * self.choppiness * _noise.GRADIENT_RMS / (2.0 * np.pi)))
+
     def wavelength(self, octave):
         return self.wave_scale / 2.0**octave
 

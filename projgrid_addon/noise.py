@@ -16,6 +16,10 @@ PERIOD = 32
 # sup |noise| over every point and every assignment of gradients, found by dense search and local
 # refinement (1.0363538...), rounded up; tests/core/test_height_field.py re-checks it.
 NOISE_BOUND = 1.0364
+# The noise's standard deviation and its gradient's root mean square per lattice unit, measured
+# over 200,000 random points of three seeds; tests/core/test_height_field.py re-measures them.
+NOISE_STD = 0.269
+GRADIENT_RMS = 0.994
 
 _GRADIENTS = np.array(
     [[1, 1, 0], [-1, 1, 0], [1, -1, 0], [-1, -1, 0],

@@ -18,7 +18,7 @@ import numpy as np
 
 from .band_limit import grid_steps, lod_from_w
 from .camera import Camera
-from .displaceable_volume import Extent, fitted_extent, visible_volume_points
+from .displaceable_volume import Extent, fitted_extents, visible_volume_points
 from .projector import Projector, aim_projector
 from .scratch import CHUNK, scratch
 from .validation import finite, integer, non_negative
@@ -50,7 +50,7 @@ class GridResult:
 
     @property
     def fitted(self):
-        """Whether the grid was built for the volume fitted to the sea in view."""
+        """Whether the grid was built for a volume fitted to the sea's spread."""
         return self.extent is not None and self.extent.fitted
 
     @cached_property
@@ -198,14 +198,15 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
 
     `height_field` is a height source (HeightField, SpectralField): prepared for `time`, it
-    gives its vertical `bound`, the `horizontal_bound` of its choppy displacement, and
-    `displacement(xy, time, lod)`. With a displacement sideways, V_visible on S_base is widened
-    by its bound, so the displaced grid still covers the screen.
+    gives its vertical `bound`, the `horizontal_bound` of its choppy displacement, their
+    standard deviations (`spread`), and `displacement(xy, time, lod)`. With a displacement
+    sideways, V_visible on S_base is widened by its bound, so the displaced grid still covers the
+    screen.
 
-    The grid is first built from the displaceable volume fitted to the sea in view
-    (`fitted_extent`) and kept if its border lies outside the screen (`border_outside`); otherwise
-    from the source's true bounds (§2.2), which always cover it. `GridResult.fitted` says which;
-    a given `extent` (such as an earlier result's) is used as it is.
+    The grid is first built from the displaceable volumes fitted to the sea's spread
+    (`fitted_extents`), the first whose border lies outside the screen (`border_outside`) kept;
+    otherwise from the source's true bounds (§2.2), which always cover it. `GridResult.fitted`
+    says which; a given `extent` (such as an earlier result's) is used as it is.
 
     Positions are world space relative to `origin` (default the world origin; see
     `snapped_origin`). `aim` places the projector; it is a parameter so tests can substitute the
@@ -225,18 +226,64 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     if extent is not None:
         return _grid(*args, extent)
     full = Extent.true_bounds(hf)
-    fitted = fitted_extent(camera, level, hf, time, full)
-    if fitted is not None and not full <= fitted:
+    for fitted in fitted_extents(hf, full):
         result = _grid(*args, fitted)
-        if result.visible and border_outside(camera, result):
+        if result.visible and border_outside(camera, result, level):
             return result
     return _grid(*args, full)
 
 
-def border_outside(camera, result):
-    """Whether the grid's border, displaced, lies outside V_cam: then the grid covers the screen
-    as the full volume's would. Each border segment must have both ends outside one frustum plane
-    (a half-space holds the segment between); the row the range stops at the horizon is exempt."""
+# Screen points (NDC) the displaced border must wind around where their rays cross the volume
+# from one side to the other: the corners, a little inside, and the centre.
+WITNESSES = np.array([(-0.99, -0.99), (0.99, -0.99), (0.99, 0.99), (-0.99, 0.99), (0.0, 0.0)])
+SUBDIVIDE = 8  # points per border segment for the border's image around the camera
+
+
+def winding(loop, point):
+    """The winding number of the closed polygon `loop` (n, 2) around `point` (2,)."""
+    a = loop - point
+    b = np.roll(a, -1, axis=0)
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    up = (a[:, 1] <= 0.0) & (b[:, 1] > 0.0) & (cross > 0.0)
+    down = (a[:, 1] > 0.0) & (b[:, 1] <= 0.0) & (cross < 0.0)
+    return int(np.count_nonzero(up)) - int(np.count_nonzero(down))
+
+
+def _windings(camera, loop):
+    """How often the closed loop of world points (n, 3) winds around each witness ray: seen
+    along the rays (orthographic), or, from the eye, on the sphere of directions (a sea rising
+    over a low camera brings the border behind it, where a screen has no image), mapped
+    stereographically from each ray's opposite direction, the border's segments subdivided so
+    their arcs stay close to chords."""
+    near, far = camera.rays(WITNESSES)
+    if camera.orthographic:
+        c = camera.clip(loop)
+        return [winding(c[:, :2] / c[:, 3:], point) for point in WITNESSES]
+    ends = np.roll(loop, -1, axis=0)
+    f = (np.arange(SUBDIVIDE) / SUBDIVIDE)[:, None, None]
+    v = ((1.0 - f) * loop + f * ends).transpose(1, 0, 2).reshape(-1, 3) - camera.position
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    out = []
+    for d in (far - near) / np.linalg.norm(far - near, axis=1, keepdims=True):
+        e1 = np.cross(d, (1.0, 0.0, 0.0) if abs(d[0]) < 0.9 else (0.0, 1.0, 0.0))
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(d, e1)
+        den = 1.0 + v @ d
+        if den.min() < 1e-9:  # the border runs through the ray's opposite direction
+            return [0] * len(WITNESSES)
+        out.append(winding(np.column_stack([v @ e1, v @ e2]) / den[:, None], np.zeros(2)))
+    return out
+
+
+def border_outside(camera, result, level):
+    """Whether the grid's border, displaced, lies outside V_cam around the screen: then the grid
+    covers the screen as the full volume's would.
+
+    Each border segment must have both ends outside one plane of V_cam (a half-space holds the
+    segment between), but for the row the range stops at the horizon; and the border must wind
+    around each screen ray that crosses the grid's volume from one side to the other (a border
+    wholly above the screen passes the first test and covers nothing; a ray that only leaves the
+    volume, from a camera inside it, may pass over the sea)."""
     nx, ny = result.resolution
     p = result.positions.reshape(ny, nx, 3)
     rows = [p[0], p[1:, -1], p[-1, -2::-1], p[-2::-1, 0]]  # a loop: bottom, right, top, left
@@ -244,13 +291,18 @@ def border_outside(camera, result):
     for i, line in enumerate(rows):
         if i == exempt:
             continue
-        start = rows[i - 1][-1:]
-        c = camera.clip(np.concatenate([start, line]).astype(np.float64) + result.origin)
+        c = camera.clip(np.concatenate([rows[i - 1][-1:], line]).astype(np.float64)
+                        + result.origin)
         w = c[:, 3:]
         out = np.concatenate([w + c[:, :3], w - c[:, :3]], axis=1) < 0.0
         if not (out[:-1] & out[1:]).any(axis=1).all():
             return False
-    return True
+    near, far = camera.rays(WITNESSES)
+    low, high = level - result.extent.lower, level + result.extent.upper
+    crossing = (((near[:, 2] > high) & (far[:, 2] < low))
+                | ((near[:, 2] < low) & (far[:, 2] > high)))
+    loop = np.concatenate(rows).astype(np.float64) + result.origin
+    return all(n != 0 for n, c in zip(_windings(camera, loop), crossing, strict=True) if c)
 
 
 def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, aim, extent):

@@ -216,10 +216,12 @@ def aim_projector(camera, level, bound, elevation, base_points):
     where none of them is behind or beside the projector.
     """
     # The floor keeps the projector above a zero-thickness sea, at 1e-6 of the frustum's reach so
-    # grazing intersections stay well conditioned in float64. The reach is the camera's own (not
-    # V_visible's, which jumps when the sea is seen edge-on), so the floor moves smoothly.
+    # grazing intersections stay well conditioned in float64, and at 1e-7 of the coordinates'
+    # size, so the projector's height is not lost in their rounding (a 1 cm frustum 40 m from
+    # the origin). The reach is the camera's own (not V_visible's, which jumps when the sea is
+    # seen edge-on), so the floor moves smoothly.
     reach = float(np.abs(camera.corners - camera.position).max())
-    floor = 1e-6 * reach
+    floor = max(1e-6 * reach, 1e-7 * (abs(level) + float(np.abs(camera.position).max())))
     height = max(abs(camera.position[2] - level), bound + elevation, floor)
     eye = np.array([camera.position[0], camera.position[1], level + height])
     g = heading(camera)

@@ -122,7 +122,9 @@ class Cascade:
                 energy += np.where(inside, spectrum.wavenumber_spectrum(
                     *world(nx + a, ny + b), state), 0.0)
         energy *= share / 16.0
-        self.h0 = phases * (np.sqrt(0.5 * energy) * dk)
+        # The tiles are synthesised in single precision: the vertices are float32 anyway, and
+        # the transforms and the patches move half the bytes.
+        self.h0 = (phases * (np.sqrt(0.5 * energy) * dk)).astype(np.complex64)
         self.h0_neg_conj = np.conj(self.h0[neg][:, neg])
         self.kx, self.ky = world(nx, ny)
         k = np.hypot(self.kx, self.ky)
@@ -130,27 +132,38 @@ class Cascade:
         safe = np.where(k > 0.0, k, 1.0)
         self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
         self.empty = not np.any(energy > 0.0)
+        self._factors = {}
+
+    def _factor(self, a, b, lam, fold):
+        """The multiplier taking h(k) to the spectrum of field a plus i times field b's (b None:
+        field a alone), complex64, made once per pair and choppiness."""
+        key = (a, b, lam, fold)
+        hit = self._factors.get(key)
+        if hit is None:
+            of = {0: lambda: np.ones_like(self.kx), 1: lambda: 1j * lam * self.ux,
+                  2: lambda: 1j * lam * self.uy, 3: lambda: -fold * self.kx * self.ux,
+                  4: lambda: -fold * self.ky * self.uy, 5: lambda: -fold * self.kx * self.uy}
+            hit = of[a]() + (0.0 if b is None else 1j * of[b]())
+            hit = self._factors[key] = np.asarray(hit, np.complex64)
+        return hit
 
     def fields(self, t, choppiness, which, fold):
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
         t, {index: texture}, and the largest |h| and |(dx, dy)| of the samples (0 where those
         fields were not asked for). The folding fields are those of choppiness `fold`."""
-        phase = np.exp(-1j * self.omega * t)
-        h = self.h0 * phase + self.h0_neg_conj * np.conj(phase)
+        angle = (self.omega * t) % (2.0 * np.pi)  # in float64: t may be large
+        phase = np.empty(angle.shape, np.complex64)
+        phase.real = np.cos(angle)
+        phase.imag = -np.sin(angle)
+        h = self.h0 * phase
+        h += self.h0_neg_conj * np.conj(phase)
         lam = choppiness
-        spectra = {0: lambda: h, 1: lambda: 1j * lam * self.ux * h,
-                   2: lambda: 1j * lam * self.uy * h, 3: lambda: -fold * self.kx * self.ux * h,
-                   4: lambda: -fold * self.ky * self.uy * h,
-                   5: lambda: -fold * self.kx * self.uy * h}
         wanted = sorted(which)
         real = {}
         for i in range(0, len(wanted), 2):  # two real fields per complex transform
             a = wanted[i]
             b = wanted[i + 1] if i + 1 < len(wanted) else None
-            both = spectra[a]()
-            if b is not None:
-                both = both + 1j * spectra[b]()
-            both = np.fft.ifft2(both, norm="forward")
+            both = np.fft.ifft2(h * self._factor(a, b, lam, fold), norm="forward")
             real[a] = both.real
             if b is not None:
                 real[b] = both.imag
@@ -203,6 +216,15 @@ class SpectralField:
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
+
+    @cached_property
+    def spread(self):
+        """(standard deviation of the height, root mean square of the choppy displacement), m:
+        each wave vector's mean power |h0(k)|^2 + |h0(-k)|^2 summed (Parseval), the same at
+        every time; the displacement's is lambda times the height's (|k / |k|| = 1)."""
+        power = sum(float(np.sum(np.abs(c.h0) ** 2 + np.abs(c.h0_neg_conj) ** 2))
+                    for c in self.cascades)
+        return float(np.sqrt(power)), float(self.choppiness * np.sqrt(power))
 
     @property
     def first_level(self):

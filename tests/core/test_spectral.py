@@ -29,6 +29,17 @@ def test_significant_height_is_the_spectrum_s(state):
     assert 4.0 * h.std() == pytest.approx(spectrum.significant_height(state), rel=0.05)
 
 
+def test_the_spread_is_the_synthesised_sea_s(seed=5):
+    """`spread`, which fits the displaceable volume, is the standard deviation of the heights
+    and the root mean square of the choppy displacement over a wide stretch, within 5 %."""
+    source = SpectralField(SeaState(wind_speed=11.0, swell_height=0.8), choppiness=0.7, seed=seed)
+    x, y = np.random.default_rng(seed).uniform(0.0, 12_000.0, (2, 400_000))
+    for t in (0.0, 9.0):
+        h, d = source.displacement(np.stack([x, y]), t)
+        assert source.spread == pytest.approx((h.std(), np.sqrt((d * d).sum(0).mean())),
+                                              rel=0.05)
+
+
 @pytest.mark.parametrize("u", [5.0, 8.0, 12.0, 16.0, 20.0])
 def test_fully_developed_sea_is_pierson_moskowitz(u):
     """Hs of a fully developed sea is about 0.21 U^2 / g (within 10 %)."""

@@ -130,8 +130,8 @@ def nudged(pose, eps):
 # moved by a relative EPS (far above float64 rounding) and no vertex may move more than POP of its
 # distance from the projector (which stays above the volume, so the ratio never degenerates).
 # A continuous grid moves by about EPS times its conditioning; a jump does not shrink with EPS.
-# The nudged grid keeps the first one's displaceable volume: the volume fitted to the sea in view
-# changes in steps by design (the benchmark counts how often), the projector's maths must not.
+# The nudged grid keeps the first one's displaceable volume: which fitted volume the border check
+# keeps changes in steps by design (the benchmark counts how often), the projector's maths must not.
 EPS = 1e-9
 POP = 1e-2
 
@@ -235,11 +235,20 @@ NAMED = {
     "spectrum under water": Pose(height=-4.0, pitch=35.0, wind_speed=8.0, choppiness=1.0),
     "spectrum, calm, far from the origin": Pose(distance=5e5, height=3.0, wind_speed=3.0,
                                                 choppiness=0.5),
-    # Low cameras over a rough sea: the grid is built for the volume fitted to the sea in view.
+    # Low cameras over a rough sea: the grid is built for the volume fitted to the sea's spread.
     "spectrum, moderate breeze, low camera": Pose(height=4.0, pitch=-4.0, fov=40.0,
                                                   wind_speed=6.7, choppiness=0.6),
     "spectrum, gale, low camera": Pose(height=4.0, pitch=-4.0, fov=40.0, wind_speed=19.0,
                                        choppiness=1.0),
+    "spectrum, gale, camera 2 m up": Pose(height=2.0, pitch=-2.0, fov=40.0, wind_speed=19.0,
+                                          choppiness=1.0),
+    # A fitted grid whose whole border lay above the screen: each border segment is outside
+    # V_cam, and the grid covered nothing (found by the random poses).
+    "fitted border wholly above the screen": Pose(
+        height=1.4855, pitch=-76.640625, yaw=-180.0, roll=-180.0, ortho_scale=0.1, near=1e-6,
+        far=3.1059, aspect=0.98923, shift_x=-0.5, shift_y=-0.5, level=-100.0, amplitude=1.9608,
+        octaves=1, roughness=0.0, time=2662860.6454541944, resolution=(2, 2), method="exact",
+        wind_direction=2.7716868186470007),
 }
 
 
@@ -328,10 +337,23 @@ def test_a_fitted_volume_that_misses_the_sea_is_not_kept(monkeypatch):
     camera, thin = pose.build(extent=Extent(0.05, 0.05, 0.05, fitted=True))
     with pytest.raises(AssertionError, match="coverage"):
         check_coverage(camera, thin, pose.level, pose.height_field().bound, n=33)
-    assert not border_outside(camera, thin)
-    monkeypatch.setattr(displaceable_volume, "FIT_MARGIN", -0.9)
+    assert not border_outside(camera, thin, pose.level)
+    monkeypatch.setattr(displaceable_volume, "FIT_SIGMAS", (0.2,))
     camera, result = check_pose(pose)
     assert not result.fitted and result.visible
+
+
+@pytest.mark.parametrize("wind", LOW_SHOTS)
+def test_a_still_camera_s_grid_stays_still(wind):
+    """The fitted volume depends on the settings, not the time: from a still camera the grid's
+    points on S_base are the same every frame and the waves run through them (a volume fitted
+    to the sea sampled in view changed from frame to frame, and the grid swam)."""
+    pose = LOW_SHOTS[wind]
+    grids = [Pose(**{**pose.__dict__, "time": t}).build()[1] for t in np.arange(0.0, 4.0, 0.25)]
+    assert all(g.fitted for g in grids)
+    for g in grids[1:]:
+        assert np.array_equal(g.base, grids[0].base)
+        assert not np.array_equal(g.positions, grids[0].positions)
 
 
 def naive_projector(camera, level, bound, elevation, base_points):

@@ -42,7 +42,7 @@ def main(quick=False, only=None):
         ("height_field", core_bench.height_field_paths),
         ("precision", core_bench.precision),
         ("efficiency", core_bench.efficiency),
-        ("sea_efficiency", lambda: core_bench.sea_efficiency(frames=12 if quick else 48)),
+        ("sea_efficiency", lambda: core_bench.sea_efficiency(frames=12 if quick else 96)),
         ("accuracy", lambda: core_bench.accuracy(
             sizes=(33, 65) if quick else (33, 65, 129, 257),
             world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),

@@ -162,9 +162,9 @@ SEA_SHOTS = (("low, 4 m", 4.0, -4.0, 40.0), ("mid, 20 m", 20.0, -10.0, 50.0),
              ("aerial, 150 m", 150.0, -35.0, 50.0))
 
 
-def sea_efficiency(forces=(4, 6, 8), frames=48, resolution=(65, 129)):
-    """The spectral sea's vertex efficiency with the grid built for the volume fitted to the sea
-    in view, against its true bounds; over `frames` frames at 24 fps from a still camera, the
+def sea_efficiency(forces=(4, 6, 8), frames=96, resolution=(65, 129)):
+    """The spectral sea's vertex efficiency with the grid built for the volume fitted to the
+    sea's spread, against its true bounds; over `frames` frames at 24 fps from a still camera, the
     share of frames whose fitted volume was kept and how often it changed (the grid then moves
     over the sea: it swims)."""
     from projgrid_addon import SpectralField, sea_state

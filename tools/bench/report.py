@@ -313,11 +313,13 @@ def _efficiency(report):
         md += ["The spectral sea (Beaufort presets, choppy): the true bounds of a spectral sea sum "
                "every band's extreme (about 11 standard deviations), so a low camera's grid built "
                "for them spends nearly every vertex under the screen. The grid is built for the "
-               "volume fitted to the sea around the screen's border and kept when its border is "
-               "verified to lie outside the screen (else the true bounds are used). Medians over "
-               "a still camera's frames; *kept*: share of frames that kept the fitted volume; "
-               "*changes*: share of frames whose volume differed from the last (the grid then "
-               "moves over the sea).", "",
+               "thinnest of the volumes fitted to the sea's spread (2, 3 or 5 standard "
+               "deviations) whose border is verified to lie outside the screen (else the true "
+               "bounds are used). They depend on the settings, not the time, so a still camera's "
+               "grid changes only in a frame where the border check turns the thinnest down. "
+               "Medians over a still camera's frames; *kept*: share of frames that kept a fitted "
+               "volume; *changes*: share of frames whose volume differed from the last (the grid "
+               "then moves over the sea).", "",
                _table(se, [("Beaufort", "force", ""), ("shot", "shot", ""),
                            ("fitted", "fitted", ".1%"), ("fitted, worst frame", "fitted_min",
                                                          ".1%"),
