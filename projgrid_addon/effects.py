@@ -28,7 +28,7 @@ from .projected_grid import grid_derivative
 from .validation import finite, non_negative
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
-           "local_reflections", "sun_glint")
+           "local_reflections")
 MODES = ("AUTO", "ON", "OFF")
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
@@ -143,7 +143,6 @@ def _auto(facts):
         "caustics": caustics,
         "godrays": (sun_up, f"{depth}, {sun_text}") if under else (False, depth),
         "local_reflections": reflections,
-        "sun_glint": (sun_up, sun_text),
     }
 
 

@@ -213,11 +213,14 @@ class HeightField:
         return shader_octaves(lod, self.octaves)
 
     def shader_detail(self, first, count):
-        """The octaves from `first` on (`count` of them) as the shader's noise (shading.Detail)."""
+        """The octaves from `first` on (`count` of them) as the shader's noise (shading.Detail),
+        as high as they are: their standard deviation over the noise texture's."""
+        std = self.amplitude / _noise.NOISE_BOUND * _noise.NOISE_STD * np.sqrt(
+            sum(self.roughness ** (2 * i) for i in range(first, first + count)))
         return shading.Detail(first=int(first), scale=1.0 / self.wavelength(first),
                               octaves=float(max(count - 1, 0)),
                               roughness=min(self.roughness, 1.0),
-                              height=self.amplitude * self.roughness**first if count else 0.0,
+                              height=float(std / shading.NOISE_FAC_STD),
                               time_rate=float(self.time_coordinate(first, 1.0)))
 
     def ripple(self):
@@ -235,6 +238,18 @@ class HeightField:
     def bound(self):
         """max |f_HF|: amplitude * sum alpha^i, since every octave is normalised to |noise| <= 1."""
         return self.amplitude * sum(self.roughness**i for i in range(self.octaves))
+
+    @property
+    def slopes(self):
+        """The slope variance of the octaves (shading.Slopes; no ripples): octave i's slope is
+        its gain times the noise's gradient per lattice unit over its wavelength."""
+        variances = [(self.amplitude / _noise.NOISE_BOUND * self.roughness**i
+                      * _noise.GRADIENT_RMS / self.wavelength(i)) ** 2
+                     for i in range(self.octaves)]
+        shortest = float(self.wavelength(max(self.octaves - 1, 0)))
+        return shading.Slopes(total=float(sum(variances)),
+                              density=float(variances[-1] / np.log(2.0)) if variances else 0.0,
+                              ripple=0.0, ripple_top=shortest, shortest=shortest)
 
     @property
     def spread(self):

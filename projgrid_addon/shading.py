@@ -4,6 +4,12 @@ The octaves the grid's band limit left out (band_limit.shader_octaves) come back
 as bump detail: a fractal from the first left-out octave on, at its wavelength, height and time
 rate (each height source's `shader_detail`). The sun glint (§3.4.5) needs the direction towards
 the sun and whether it is above the horizon.
+
+Waves too short for a pixel become the surface's roughness (Bruneton, Neyret and Holzschuch,
+*Real-time Realistic Ocean Lighting using Seamless Transitions from Geometry to BRDF*, 2010): a
+wave is drawn, by the geometry or the shader's normals, while it spans PIXELS pixels; the slope
+variance of the shorter ones is the variance of a microfacet slope distribution, so that the
+variance drawn plus the roughness is Cox and Munk's for the wind at every distance.
 """
 
 from dataclasses import dataclass
@@ -40,14 +46,99 @@ def sun_elevation(direction):
     return float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
 
 
-def ripple_reach(proj, width, wavelength, pixels=4.0):
-    """How far from a camera (m) a wave `wavelength` long still spans `pixels` pixels across an
-    image `width` pixels wide (`proj`: its OpenGL projection): within it the shader shows the
-    ripples no geometry holds, fading out over the next doubling of the distance. A perspective
-    pixel subtends 2 / (proj[0, 0] width) radians; an orthographic one that many metres, so
-    there the reach is all or nothing."""
+# A wave is drawn while it spans this many pixels (Nyquist's two samples a wave; EEVEE's
+# antialiasing samples within the pixel); the slopes of shorter ones are roughness.
+PIXELS = 2.0
+# The sea's roughness length (m): the wind at 12.5 m, where Cox and Munk measured it, from the
+# wind at 10 m by the logarithmic profile U(z) ~ ln(z / Z0).
+Z0 = 2e-4
+
+
+def cox_munk(wind_speed):
+    """The mean square slope of a clean sea, upwind plus crosswind (Cox and Munk 1954,
+    0.003 + 5.12e-3 U with U in m/s at 12.5 m), for the wind at 10 m."""
+    u = max(float(wind_speed), 0.0) * np.log(12.5 / Z0) / np.log(10.0 / Z0)
+    return 0.003 + 5.12e-3 * u
+
+
+@dataclass(frozen=True)
+class Slopes:
+    """The slope variance a height source draws (geometry, shader detail and ripples): in all;
+    per unit ln(wavelength) at the short end of its waves above the ripples; the ripples' own
+    (0 for a source without them) and their longest wave (m); the shortest wave drawn (m)."""
+
+    total: float
+    density: float
+    ripple: float
+    ripple_top: float
+    shortest: float
+
+
+@dataclass(frozen=True)
+class Filtering:
+    """The shader's per-pixel slope variance of the waves too short to draw (Bruneton 2010).
+    With L_p the shortest wave drawn, PIXELS pixels' footprint at distance d seen at cos:
+
+        ln L_p  = distance_power ln(d / sqrt(cos)) + pixel_log
+        sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
+                      + density max(ln L_p - ln T, 0), ceiling)
+
+    S and T are the ripples' shortest and longest waves (`shortest_log`, `ripple_top_log`). The
+    slope variance Cox and Munk measured for the wind beyond what the sea draws is added to the
+    ripples where there are any (their bump grows by `ripple_gain`: near the camera the sun
+    glitters on them), else it is the `floor`; `ceiling` is the whole."""
+
+    pixel_log: float
+    distance_power: float
+    floor: float
+    ripple: float
+    ripple_gain: float
+    density: float
+    shortest_log: float
+    ripple_top_log: float
+    ceiling: float
+
+
+def pixel_footprint(proj, width):
+    """(ln of PIXELS pixels' size at 1 m, distance power) for a camera of OpenGL projection
+    `proj` and an image `width` pixels wide: a perspective pixel subtends 2 / (proj[0, 0] width)
+    radians, so its footprint grows with the distance (power 1); an orthographic one is that
+    many metres everywhere (power 0)."""
     proj = np.asarray(proj, dtype=np.float64)
     pixel = 2.0 / (abs(proj[0, 0]) * max(int(width), 1))
-    if proj[3, 3] != 0.0:  # orthographic
-        return 1e9 if pixel * pixels <= wavelength else 0.0
-    return wavelength / (pixels * pixel)
+    return float(np.log(PIXELS * pixel)), (0.0 if proj[3, 3] != 0.0 else 1.0)
+
+
+def filtering(proj, width, slopes, wind_speed):
+    """The Filtering of a source drawing `slopes` (Slopes) under a wind (m/s at 10 m)."""
+    pixel_log, power = pixel_footprint(proj, width)
+    extra = max(cox_munk(wind_speed) - slopes.total, 0.0)
+    ripple, floor, gain = slopes.ripple, extra, 1.0
+    if ripple > 0.0:
+        ripple, floor, gain = ripple + extra, 0.0, float(np.sqrt((ripple + extra) / ripple))
+    return Filtering(pixel_log=pixel_log, distance_power=power, floor=floor, ripple=ripple,
+                     ripple_gain=gain, density=slopes.density,
+                     shortest_log=float(np.log(slopes.shortest)),
+                     ripple_top_log=float(np.log(slopes.ripple_top)),
+                     ceiling=slopes.total + extra)
+
+
+def footprint_log(f, distance, cos_view=1.0):
+    """ln L_p: the shortest wave drawn at `distance` (m), seen at `cos_view` (the shader's)."""
+    d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
+    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), 0.01)
+    return f.distance_power * np.log(d / np.sqrt(c)) + f.pixel_log
+
+
+def undrawn_share(top_log, bottom_log, footprint_log_):
+    """The share of a log-uniform slope spectrum between wavelengths e^bottom_log and e^top_log
+    whose waves are shorter than the footprint: not drawn (a layer's bump is scaled by the root
+    of the rest, so nothing counts both as normals and as roughness)."""
+    return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
+
+
+def unresolved_slope_variance(f, distance, cos_view=1.0):
+    """The roughness sigma^2 at `distance`, as the shader computes it."""
+    lp = footprint_log(f, distance, cos_view)
+    return np.minimum(f.floor + f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
+                      + f.density * np.maximum(lp - f.ripple_top_log, 0.0), f.ceiling)

@@ -76,6 +76,16 @@ def band_shares(state):
     return [p / total if total > 0.0 else 0.0 for p in parts]
 
 
+def _slope_variance(state, shortest, longest, samples=4000):
+    """The spectrum's slope variance over wavelengths `shortest` to `longest` (m): the
+    integral of k^2 S(omega) d omega, k = omega^2 / g."""
+    w = np.geomspace(np.sqrt(2.0 * np.pi * spectrum.GRAVITY / longest),
+                     np.sqrt(2.0 * np.pi * spectrum.GRAVITY / shortest), samples)
+    k = w * w / spectrum.GRAVITY
+    s = spectrum.wind_spectrum(w, state) + spectrum.swell_spectrum(w, state)
+    return float(spectrum.integrate(k * k * s, w))
+
+
 @lru_cache(maxsize=64)
 def _phases(seed, band, tile, texels):
     """e^(i phi) per wave vector of one tile, phi uniform: fixed by the seed alone."""
@@ -261,14 +271,16 @@ class SpectralField:
     def shader_detail(self, first, count):
         """The bands from `first` on as the shader's noise (shading.Detail): two octaves a band,
         from the band's longest wave, each half the height of the one before (the spectrum's
-        tail), as high as those bands' share of the sea's height."""
+        tail), as high as those bands' share of the sea's height (its standard deviation over
+        the noise texture's)."""
         if count <= 0 or first >= BANDS:
             return shading.Detail(first=BANDS, scale=1.0, octaves=0.0, roughness=0.5,
                                   height=0.0, time_rate=0.0)
         longest = bands()[first][1]
         sigma = np.sqrt(self._m0 * sum(self._shares[first:]))
         return shading.Detail(first=int(first), scale=1.0 / longest,
-                              octaves=float(2 * count - 1), roughness=0.5, height=2.0 * sigma,
+                              octaves=float(2 * count - 1), roughness=0.5,
+                              height=float(sigma / shading.NOISE_FAC_STD),
                               time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * longest))))
 
     def ripple(self):
@@ -278,8 +290,8 @@ class SpectralField:
     @cached_property
     def _ripple(self):
         """The waves shorter than the last band, which no tile holds, down RIPPLE_OCTAVES
-        octaves, as shading detail (shading.Detail, `first` unused; shown within
-        shading.ripple_reach of the camera), and the longest of them (m). Their height is the
+        octaves, as shading detail (shading.Detail, `first` unused; drawn where a pixel shows
+        them, shading.Filtering), and the longest of them (m). Their height is the
         spectrum's own over that range (σ² = α/4k² under its k⁻⁴ tail; the bump's distance is
         σ over the noise's own spread), each octave half the one before. Without them the near
         water, whose every band the geometry holds, had no detail finer than 25 cm and looked
@@ -294,6 +306,18 @@ class SpectralField:
                                 height=np.sqrt(variance) / shading.NOISE_FAC_STD,
                                 time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * top))))
         return detail, float(top)
+
+    @cached_property
+    def slopes(self):
+        """The slope variance of the waves this sea draws (shading.Slopes): the spectrum's
+        k^2 S over the bands and over the ripples, down to the ripples' shortest wave."""
+        top = bands()[-1][0]
+        shortest = top / 2.0**RIPPLE_OCTAVES
+        ripple = _slope_variance(self.state, shortest, top)
+        return shading.Slopes(
+            total=ripple + _slope_variance(self.state, top, 10.0 * BAND_LONGEST),
+            density=_slope_variance(self.state, top, 2.0 * top) / np.log(2.0), ripple=ripple,
+            ripple_top=top, shortest=shortest)
 
     def wavelength(self, octave):
         return self.wave_scale / 2.0**octave

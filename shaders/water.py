@@ -1,19 +1,22 @@
 """The EEVEE node group "Projected Grid Water" (thesis §3.4, App. B) and our water material.
 
-    colour = lerp(refraction, sky reflection + sun glint, F)                      (§3.4.8)
+    colour = lerp(refraction, reflection of the sky and the sun, F)               (§3.4.8)
 
-F is the exact unpolarised Fresnel reflectance (Eq. 1.4) for IOR 1.333, written with math nodes in
-the form Blender's own Fresnel node uses (g = sqrt(eta^2 - 1 + c^2), total internal reflection
-when g^2 < 0; eta inverted on back faces, i.e. seen from under water). The sky is reflected along
-the reflection vector by a sharp glossy BSDF (the world, or with local reflections our sphere
-probe's capture from the camera mirrored in the water), the sun glint is the Phong term of
-§3.4.5, max(0, R.L)^shininess, from the scene's sun lamp, and the refraction is the water colour
-(from below, the sky through Snell's window).
 The octaves the geometry left out (GridResult.shader_octaves) come back as bump detail, faded in
-where the vertices' band limit (the per-vertex `projgrid_lod` attribute) dropped them (§3.1.3).
+where the vertices' band limit (the per-vertex `projgrid_lod` attribute) dropped them (§3.1.3),
+and the ripples below the last band as a second bump. Waves shorter than a pixel shows become
+the roughness of the reflection (Bruneton, Neyret and Holzschuch 2010; shading.Filtering): each
+bump is drawn as far as a pixel shows its waves, and the slope variance of the rest is the GGX
+lobe's, so the sky's reflection blurs and the sun lamp's highlight widens into a glitter path
+with distance, and nothing flickers as detail finer than a pixel would. F is, from above, the
+mean Fresnel over those slopes (Bruneton's fit), which keeps a rough far sea darker than the sky
+at the horizon; from under water the exact unpolarised reflectance (Eq. 1.4) for IOR 1.333, in
+the form Blender's Fresnel node uses (total internal reflection when g^2 < 0). The sky is the
+world, or with local reflections our sphere probe's capture; the refraction is the water colour
+(from below, the sky through Snell's window).
 
 Effects are branches muted while off (a muted mix or add shader passes its first shader on, so
-the branch is neither compiled nor evaluated): foam, the glint, and refraction (the water colour
+the branch is neither compiled nor evaluated): foam and refraction (the water colour
 replaced by transparency, dithered; the water body's volume then absorbs and tints what lies
 below, Fleck Eq. 14/17). The water's shadow is cast by a caster object of ours with its own
 material, transparent by the caustics: the scene's sun projects them onto submerged geometry.
@@ -31,12 +34,14 @@ import numpy as np
 
 from .nodes import TAG, Graph, assign, empty_tree
 
+E = 2.718281828459045  # the natural logarithm's base
+
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 8  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 9  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
@@ -44,30 +49,33 @@ FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foa
 # (absent, the attribute reads 0: the flat water's shadow).
 CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 # The node joining a branch to the water, and the effects that need it; muted while none is on.
-EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Sun Glint": ("sun_glint",),
-                "Refraction": ("refraction",)}
+EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
 
-INPUTS = (  # name, socket type, default; the last group is written by the frame handler
+INPUTS = (  # name, socket type, default; all but the first two are written by the frame handler
     ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
     ("IOR", "NodeSocketFloat", 1.333),
-    ("Sun Strength", "NodeSocketFloat", 20.0),
-    ("Shininess", "NodeSocketFloat", 400.0),
-    ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 1.0)),
-    ("Sun Colour", "NodeSocketColor", (1.0, 1.0, 1.0, 1.0)),
-    ("Sun Visible", "NodeSocketFloat", 0.0),
     ("Detail Scale", "NodeSocketFloat", 1.0),
     ("Detail Height", "NodeSocketFloat", 0.0),
     ("Detail Octaves", "NodeSocketFloat", 0.0),
     ("Detail Roughness", "NodeSocketFloat", 0.5),
     ("Detail Time", "NodeSocketFloat", 0.0),
     ("Detail First Octave", "NodeSocketFloat", 0.0),
+    ("Detail Top Log", "NodeSocketFloat", 0.0),
     ("Ripple Scale", "NodeSocketFloat", 1.0),
     ("Ripple Height", "NodeSocketFloat", 0.0),
     ("Ripple Octaves", "NodeSocketFloat", 0.0),
     ("Ripple Time", "NodeSocketFloat", 0.0),
-    ("Ripple Reach", "NodeSocketFloat", 0.0),
+    # The filtering of the waves too short to draw into roughness (shading.Filtering).
+    ("Pixel Log", "NodeSocketFloat", -6.0),
+    ("Distance Power", "NodeSocketFloat", 1.0),
+    ("Slope Floor", "NodeSocketFloat", 0.0),
+    ("Ripple Slopes", "NodeSocketFloat", 0.0),
+    ("Slope Density", "NodeSocketFloat", 0.0),
+    ("Shortest Log", "NodeSocketFloat", -3.5),
+    ("Ripple Top Log", "NodeSocketFloat", -1.4),
+    ("Slope Ceiling", "NodeSocketFloat", 0.0),
 )
 
 
@@ -99,9 +107,26 @@ def _build(group):
     geo = g.node("ShaderNodeNewGeometry").outputs
     lod = g.node("ShaderNodeAttribute", attribute_name=LOD_ATTRIBUTE).outputs["Fac"]
 
+    # The shortest wave a pixel shows here (shading.Filtering): PIXELS pixels' footprint at the
+    # view distance, stretched where the water is seen at a grazing angle.
+    distance = g.math("MAXIMUM", g.node("ShaderNodeCameraData").outputs["View Distance"], 1e-6)
+    grazing = g.math("MAXIMUM", g.math("ABSOLUTE", g.vector("DOT_PRODUCT", geo["True Normal"],
+                                                            geo["Incoming"])), 0.01)
+    footprint = g.math("MULTIPLY_ADD", i["Distance Power"],
+                       g.math("SUBTRACT", g.math("LOGARITHM", distance, E),
+                              g.math("MULTIPLY", g.math("LOGARITHM", grazing, E), 0.5)),
+                       i["Pixel Log"])
+
+    def undrawn(top, bottom):  # shading.undrawn_share
+        return g.math("DIVIDE", g.math("SUBTRACT", footprint, bottom),
+                      g.math("MAXIMUM", g.math("SUBTRACT", top, bottom), 1e-6), clamp=True)
+
     # Left-out octaves as bump detail: full where the vertices carry none of the first shader
-    # octave (lod <= first), none where they carry it whole.
-    fade = g.math("SUBTRACT", g.math("ADD", i["Detail First Octave"], 1.0), lod, clamp=True)
+    # octave (lod <= first), none where they carry it whole; and only as far as a pixel shows
+    # them (the root of the drawn share of their slopes).
+    lod_fade = g.math("SUBTRACT", g.math("ADD", i["Detail First Octave"], 1.0), lod, clamp=True)
+    detail_out = undrawn(i["Detail Top Log"], i["Ripple Top Log"])
+    fade = g.math("MULTIPLY", lod_fade, g.math("SQRT", g.math("SUBTRACT", 1.0, detail_out)))
     noise = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Detail Time"],
                                           "Scale": i["Detail Scale"],
                                           "Detail": i["Detail Octaves"],
@@ -110,21 +135,23 @@ def _build(group):
     bump = g.node("ShaderNodeBump", {"Strength": fade, "Distance": i["Detail Height"],
                                      "Height": noise.outputs["Fac"]})
     normal = bump.outputs["Normal"]
-    # Ripples shorter than any wave the sea synthesises, within the reach where a pixel can
-    # show them, fading out over the next doubling of the distance.
+    # Ripples shorter than any wave the sea synthesises, as far as a pixel shows them.
+    ripple_out = undrawn(i["Ripple Top Log"], i["Shortest Log"])
     ripple = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Ripple Time"],
                                            "Scale": i["Ripple Scale"],
                                            "Detail": i["Ripple Octaves"], "Roughness": 0.5},
                     noise_dimensions="4D")
-    distance = g.node("ShaderNodeCameraData").outputs["View Distance"]
-    shown = g.math("SUBTRACT", g.math("LOGARITHM", g.math("MAXIMUM", i["Ripple Reach"], 1e-6),
-                                      2.0),
-                   g.math("LOGARITHM", g.math("MAXIMUM", distance, 1e-6), 2.0), clamp=True)
-    normal = g.node("ShaderNodeBump", {"Strength": shown, "Distance": i["Ripple Height"],
-                                       "Height": ripple.outputs["Fac"],
-                                       "Normal": normal}).outputs["Normal"]
+    normal = g.node("ShaderNodeBump", {
+        "Strength": g.math("SQRT", g.math("SUBTRACT", 1.0, ripple_out)),
+        "Distance": i["Ripple Height"], "Height": ripple.outputs["Fac"],
+        "Normal": normal}).outputs["Normal"]
 
-    # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos.
+    # The slope variance of the waves not drawn here: the microfacets' roughness.
+    beyond = g.math("MAXIMUM", g.math("SUBTRACT", footprint, i["Ripple Top Log"]), 0.0)
+    slopes = g.math("MINIMUM", g.math("MULTIPLY_ADD", i["Slope Density"], beyond, g.math(
+        "MULTIPLY_ADD", i["Ripple Slopes"], ripple_out, i["Slope Floor"])), i["Slope Ceiling"])
+
+    # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos: seen from under water.
     c = g.math("ABSOLUTE", g.vector("DOT_PRODUCT", normal, geo["Incoming"]))
     eta = g.mix(geo["Backfacing"], i["IOR"], g.math("DIVIDE", 1.0, i["IOR"]))
     g2 = g.math("MULTIPLY_ADD", c, c, g.math("MULTIPLY_ADD", eta, eta, -1.0))
@@ -136,20 +163,26 @@ def _build(group):
     fresnel = g.math("MULTIPLY", g.math("MULTIPLY", g.math("MULTIPLY", a, a), 0.5),
                      g.math("MULTIPLY_ADD", b, b, 1.0))
     fresnel = g.mix(g.math("LESS_THAN", g2, 0.0), fresnel, 1.0)  # total internal reflection
+    # From above, less by what the facets' slopes take from it: Bruneton's fit of the mean
+    # Fresnel (2010, Eq. 11), 0.02 + 0.98 (1 - cos)^(5 exp(-2.69 s)) / (1 + 22.7 s^1.5), s the
+    # slope deviation along the view, less its value for a mirror (Schlick's), so a mirror
+    # keeps the exact reflectance and a rough far sea reflects less of the sky at grazing.
+    sigma = g.math("SQRT", g.math("MULTIPLY", slopes, 0.5))
+    facing = g.math("MAXIMUM", g.math("SUBTRACT", 1.0, c), 0.0)
+    mean = g.math("DIVIDE", g.math("POWER", facing, g.math("MULTIPLY", g.math("EXPONENT", g.math(
+        "MULTIPLY", sigma, -2.69)), 5.0)),
+                  g.math("MULTIPLY_ADD", g.math("POWER", sigma, 1.5), 22.7, 1.0))
+    rough = g.math("MAXIMUM", g.math("MULTIPLY_ADD", g.math(
+        "SUBTRACT", mean, g.math("POWER", facing, 5.0)), 0.98, fresnel), 0.0)
+    fresnel = g.mix(geo["Backfacing"], rough, fresnel)
 
-    # Sun glint: Phong term along the reflection vector R = reflect(-I, N) (§3.4.5).
-    r = g.vector("REFLECT", g.vector("SCALE", geo["Incoming"], Scale=-1.0), normal)
-    phong = g.math("POWER", g.math("MAXIMUM", g.vector("DOT_PRODUCT", r, i["Sun Direction"]),
-                                   0.0), i["Shininess"])
-    glint = g.node("ShaderNodeEmission", {
-        "Color": i["Sun Colour"],
-        "Strength": g.math("MULTIPLY", g.math("MULTIPLY", phong, i["Sun Strength"]),
-                           i["Sun Visible"]),
-    })
-    sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0,
+    # The sky and the sun reflected by microfacets of that slope variance: a GGX lobe of
+    # alpha = sigma (alpha = Roughness^2), whose sun lamp highlight is the glint: sharp
+    # glitter on the drawn ripples near the camera, a widening path toward the horizon.
+    sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0),
+                                          "Roughness": g.math("POWER", slopes, 0.25),
                                           "Normal": normal})
-    reflection = g.node("ShaderNodeAddShader", {0: sky.outputs[0], 1: glint.outputs[0]})
-    reflection.name = "Sun Glint"
+    reflection = sky
     # Refraction: the water colour seen from above, or with refraction on what lies below
     # through the water body; from below (back faces) the sky through Snell's window (the BSDF
     # inverts the IOR on back faces itself).
@@ -173,7 +206,13 @@ def _build(group):
                                           "Roughness": 0.65}, noise_dimensions="4D")
     foam = g.math("MULTIPLY", foam, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5),
                   clamp=True)
-    cover = g.node("ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0), "Normal": normal})
+    # Foam scatters like the white of its bubbles and shines forward like their films: a
+    # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
+    cover = g.node("ShaderNodeAddShader", {
+        0: g.node("ShaderNodeBsdfDiffuse", {"Color": (0.7, 0.7, 0.7, 1.0),
+                                            "Normal": normal}).outputs[0],
+        1: g.node("ShaderNodeBsdfGlossy", {"Color": (0.25, 0.25, 0.25, 1.0), "Roughness": 0.6,
+                                           "Normal": normal}).outputs[0]})
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
                                                2: cover.outputs[0]})
     with_foam.name = "Foam"
@@ -288,7 +327,7 @@ def update_godrays(mat, tile, lookup):
 
 def material():
     """A new water material of ours, for one ocean: the frame handler writes each ocean's own
-    shader inputs (detail, time, sun) into its material (they share the node group)."""
+    shader inputs (detail, time, filtering) into its material (they share the node group)."""
     mat = bpy.data.materials.new(MATERIAL)
     mat[TAG] = True
     nodes = empty_tree(mat).nodes
@@ -336,15 +375,13 @@ def material_of(mesh):
     return mat if ours else None
 
 
-def update(mat, effects_on, sun_direction, sun_colour, sun_visible, detail_first, detail_scale,
-           detail_octaves, detail_roughness, detail_height, detail_time_per_frame,
-           ripple=(1.0, 0.0, 0.0, 0.0, 0.0)):
+def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
+           filtering):
     """A frame's inputs into our water material's group, each written only when it changed:
-    which effects are on ({effect: bool}), the sun (direction towards it, colour, whether above
-    the horizon; direction and colour None: kept), and the left-out octaves as detail, whose time
-    a driver advances with the frame (`detail_time_per_frame` per frame, subframes included), so
-    an animation writes nothing per frame. `ripple`: (scale, height, octaves, reach, time per
-    frame) of the waves shorter than any the sea synthesises."""
+    which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail, its
+    longest wave's natural log as `top_log`) and the ripples (shading.Detail), whose times
+    drivers advance with the frame (subframes included), so an animation writes nothing per
+    frame; and the filtering of the waves too short to draw (shading.Filtering)."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -352,22 +389,21 @@ def update(mat, effects_on, sun_direction, sun_colour, sun_visible, detail_first
             and node.node_tree.library is None):
         set_effects(node.node_tree, effects_on, EFFECT_NODES)
     inputs = node.inputs
-    if sun_direction is not None:
-        assign(inputs["Sun Direction"], default_value=tuple(sun_direction))
-        assign(inputs["Sun Colour"], default_value=(*sun_colour, 1.0))
-    assign(inputs["Sun Visible"], default_value=1.0 if sun_visible else 0.0)
-    assign(inputs["Detail First Octave"], default_value=float(detail_first))
-    assign(inputs["Detail Scale"], default_value=float(detail_scale))
-    assign(inputs["Detail Octaves"], default_value=float(detail_octaves))
-    assign(inputs["Detail Roughness"], default_value=float(detail_roughness))
-    assign(inputs["Detail Height"], default_value=float(detail_height))
+    values = {
+        "Detail First Octave": detail.first, "Detail Scale": detail.scale,
+        "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,
+        "Detail Height": detail.height, "Detail Top Log": -np.log(detail.scale),
+        "Ripple Scale": ripple.scale, "Ripple Octaves": ripple.octaves,
+        "Ripple Height": ripple.height * filtering.ripple_gain,
+        "Pixel Log": filtering.pixel_log, "Distance Power": filtering.distance_power,
+        "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
+        "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
+        "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling}
+    for name, value in values.items():
+        if name in inputs:  # a group of an older version until it is rebuilt
+            assign(inputs[name], default_value=float(value))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
-    scale, height, octaves, reach, per_frame = ripple
-    assign(inputs["Ripple Scale"], default_value=float(scale))
-    assign(inputs["Ripple Height"], default_value=float(height))
-    assign(inputs["Ripple Octaves"], default_value=float(octaves))
-    assign(inputs["Ripple Reach"], default_value=float(reach))
-    drive_by_frame(mat.node_tree, inputs["Ripple Time"], per_frame)
+    drive_by_frame(mat.node_tree, inputs["Ripple Time"], ripple_time_per_frame)
 
 
 def drive_expression(per_frame):

@@ -226,7 +226,10 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
         hide = not any(on[e] for e in needed_by)
         assign(companion, hide_render=hide or hidden[0], hide_viewport=hide or hidden[1])
         if prop == "shadow_caster":
-            assign(obj, visible_shadow=hide)
+            # The water never shadows itself: its waves' shadowing of the sun's glint is the
+            # reflection's own (the microfacets' masking); a shadow map of the waves on the
+            # waves draws blocks into the glitter path. Only the caster shadows what is below.
+            assign(obj, visible_shadow=False)
         elif prop == "reflection_probe":
             assign(obj, hide_probe_sphere=not hide)
         if hide:

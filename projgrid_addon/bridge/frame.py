@@ -117,7 +117,6 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         modes = {e: getattr(settings, e) for e in effects.EFFECTS}
         volume_reach = (float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                         else 100.0)
-        sun_colour = tuple(sun.data.color) if sun is not None else None
         per_frame = shot.seconds_per_frame(the_scene)
 
         # Build (thesis §2.4), decide the effects, compute the fields of those on.
@@ -136,8 +135,9 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)
                    if on["godrays"] else None)
         detail = hf.shader_detail(*result.shader_octaves)
-        ripple, ripple_wave = hf.ripple()
-        reach = shading.ripple_reach(cam.proj, shot.render_size(the_scene)[0], ripple_wave)
+        ripple, _ = hf.ripple()
+        filtering = shading.filtering(cam.proj, shot.render_size(the_scene)[0], hf.slopes,
+                                      settings.wind_speed)
     except ValueError as e:
         mesh.empty(surface.data)
         return state.refused(str(e))
@@ -166,13 +166,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     in_use = effects_in_use()
     material = water.material_of(surface.data)
     if material is not None:
-        direction = facts.sun_direction
-        water.update(material, in_use, direction, sun_colour,
-                     direction is not None and direction[2] > 0.0, detail.first, detail.scale,
-                     detail.octaves, detail.roughness, detail.height,
-                     detail.time_rate * per_frame,
-                     (ripple.scale, ripple.height, ripple.octaves, reach,
-                      ripple.time_rate * per_frame))
+        water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
+                     ripple.time_rate * per_frame, filtering)
     if making:
         if restructured:
             companions.ensure_companions(surface)

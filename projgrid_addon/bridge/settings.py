@@ -128,7 +128,6 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     godrays: _mode("godrays", "Shafts of sunlight seen from under the water")
     local_reflections: _mode("local_reflections", "Reflections of objects above the water "
                              "(sky only without them)")
-    sun_glint: _mode("sun_glint", "The sun's highlight on the waves")
     water_body: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                 description="Our water body volume (underwater, refraction)")
     shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},

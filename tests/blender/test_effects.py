@@ -38,27 +38,13 @@ def ocean():
     return obj
 
 
-def test_a_bare_ocean_turns_on_only_the_sun_glint(ocean):
-    assert ocean.projgrid.active_effects == {"SUN_GLINT"}
+def test_a_bare_ocean_turns_on_nothing(ocean):
+    assert ocean.projgrid.active_effects == set()
     lines = effect_lines(ocean)
-    assert lines["sun_glint"].startswith("on: sun ") and "above the horizon" in lines["sun_glint"]
     assert lines["local_reflections"] == (
         "off: sky only: nothing above the water is mirrored in view")
     assert lines["foam"].startswith("off: wind 3 m/s")
-    assert group().nodes["Foam"].mute and not group().nodes["Sun Glint"].mute
-
-
-def test_sun_below_the_horizon_or_off_mutes_the_glint(ocean):
-    sun = next(o for o in bpy.context.scene.objects if o.type == "LIGHT")
-    sun.rotation_euler = (np.radians(120.0), 0.0, 0.0)  # shining upwards: below the horizon
-    bpy.context.view_layer.update()
-    assert ocean.projgrid.active_effects == set()
-    assert "below the horizon" in effect_lines(ocean)["sun_glint"]
-    assert group().nodes["Sun Glint"].mute
-    sun.rotation_euler = (0.3, 0.0, 0.0)
-    ocean.projgrid.sun_glint = "OFF"
-    assert ocean.projgrid.active_effects == set()
-    assert effect_lines(ocean)["sun_glint"] == "off: switched off"
+    assert group().nodes["Foam"].mute and group().nodes["Refraction"].mute
 
 
 def test_wind_brings_foam_and_calm_computes_none(ocean, bridge, monkeypatch):
@@ -111,7 +97,7 @@ def shown(obj):
 def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge):
     body, caster, probe = companions(ocean)
     assert not any(shown(c) for c in companions(ocean))  # made hidden with the ocean
-    assert ocean.visible_shadow and not ocean.hide_probe_sphere
+    assert not ocean.visible_shadow and not ocean.hide_probe_sphere  # never shadows itself
     add_box("Buoy", (0.0, 40.0, 0.0))  # crosses the surface in view, the sun above
     bpy.context.view_layer.update()
     lines = effect_lines(ocean)
@@ -119,8 +105,8 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     assert lines["contact_foam"] == "on: 'Buoy' crosses the surface in view"
     assert lines["refraction"] == "on: 'Buoy' is below the surface in view"
     assert lines["caustics"].startswith("on: sun ")
-    assert ocean.projgrid.active_effects == {"SUN_GLINT", "CONTACT_FOAM", "REFRACTION",
-                                             "CAUSTICS", "LOCAL_REFLECTIONS"}
+    assert ocean.projgrid.active_effects == {"CONTACT_FOAM", "REFRACTION", "CAUSTICS",
+                                             "LOCAL_REFLECTIONS"}
     assert shown(body) and shown(caster) and shown(probe)
     # The reflection is captured by the camera mirrored in the water, which leaves out the
     # water and our own objects and clips at the surface.
@@ -132,7 +118,7 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     assert caster.material_slots[0].material.name == "Projected Grid Water Shadow"
     assert body.location.z == pytest.approx(-bpy.context.scene.eevee.volumetric_end)
     nodes = group().nodes
-    assert not any(nodes[n].mute for n in ("Foam", "Refraction", "Sun Glint"))
+    assert not any(nodes[n].mute for n in ("Foam", "Refraction"))
     # Contact foam: only near the buoy (1 m from its centre: inside the 2 m box), and only there.
     foam = attribute(ocean, "projgrid_foam")
     grid = bridge.state.RUNTIME.state(ocean).grid
@@ -148,8 +134,8 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     bpy.data.objects["Buoy"].location = (0.0, -40.0, 0.0)  # behind the camera
     bpy.context.view_layer.update()
     assert effect_lines(ocean)["contact_foam"] == "off: nothing in view crosses the surface"
-    assert ocean.projgrid.active_effects == {"SUN_GLINT"}
-    assert not any(shown(c) for c in companions(ocean)) and ocean.visible_shadow
+    assert ocean.projgrid.active_effects == set()
+    assert not any(shown(c) for c in companions(ocean)) and not ocean.visible_shadow
     assert not ocean.hide_probe_sphere  # the user's own sphere probes see the water again
     assert "projgrid_foam" not in ocean.data.attributes
     assert "projgrid_caustics" not in ocean.data.attributes

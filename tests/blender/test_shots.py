@@ -77,11 +77,17 @@ def luminance(img):
     return img @ np.array([0.2126, 0.7152, 0.0722])
 
 
+def linear(img):
+    """sRGB display values back to linear light."""
+    return np.where(img <= 0.04045, img / 12.92, ((img + 0.055) / 1.055) ** 2.4)
+
+
 @pytest.mark.parametrize("name", SHOTS)
 def test_shot(name, tmp_path):
     path = render_shot(name, tmp_path)
     img = luminance(read(path))
     assert np.isfinite(img).all() and img.std() > 0.003  # a picture, not a flat colour
+    light = luminance(linear(read(path)))
     if name == "horizon":
         rows = img.mean(axis=1)  # the horizon is the middle row at pitch 0
         sky, water = rows[:80], rows[95:]
@@ -89,12 +95,17 @@ def test_shot(name, tmp_path):
         # Fresnel: the water brightens toward the horizon (grazing angles reflect more sky).
         bands = water.reshape(-1, 17).mean(axis=1)[::-1]  # from the bottom up
         assert np.all(np.diff(bands) > 0), bands
+        # ... yet the far sea, rough at a pixel's scale, stays darker than the sky above it:
+        # a horizon line (Bruneton's mean Fresnel), at least 10 % in luminance.
+        above, below = light[80:89].mean(), light[91:100].mean()
+        assert below < 0.9 * above, (below, above)
     if name == "underwater_up":  # the sky through Snell's window, brighter than the TIR
         assert img[:40].mean() > 1.2 * img[-40:].mean()  # display (sRGB) values
     if name == "sun_glint":
-        # the glint: the brightest water pixels are far brighter than the water around them
-        water = img[110:]
-        assert np.percentile(water, 99.5) > 2.0 * np.median(water)
+        # The sun 12° up ahead: its glitter path reaches the horizon (row 57 at 6° down),
+        # twice as bright as the water beside it just below the horizon.
+        below = light[58:68]
+        assert below[:, 140:180].mean() > 2.0 * np.r_["1", below[:, :60], below[:, -60:]].mean()
     compare_with_reference(name, path)
     done_updating()
 
@@ -118,24 +129,31 @@ def test_sea_states(tmp_path):
         bpy.ops.render.render(write_still=True)
         compare_with_reference(f"beaufort_{force}", path)
         water = luminance(read(path))[60:]  # below the horizon (row 39 at 12° down)
-        contrast.append(float(water.std()))
+        # across each row: the slopes turning the reflection, not the Fresnel's rise with
+        # the distance (which a rough sea flattens)
+        contrast.append(float((water - water.mean(axis=1, keepdims=True)).std()))
         white.append(float((water > 0.6).mean()))  # brighter than any sky the water mirrors
     assert contrast[0] < contrast[1] < contrast[2], contrast
     assert white[0] < 0.0005 and white[0] < white[1] < white[2] and white[2] > 0.003, white
     done_updating()
 
 
-FRESNEL = {"outside": ((0.0, -6.0, 0.0), (90.0, 0.0, 0.0)),  # sees front faces
+FRESNEL = {"outside": ((0.0, -6.0, 0.0), (90.0, 0.0, 0.0), 0.0),  # sees front faces
+           "outside, rough": ((0.0, -6.0, 0.0), (90.0, 0.0, 0.0), 0.02),
            # sees back faces (as from under water), near the wall and along it: grazing angles
-           "inside": ((0.0, -1.8, 0.0), (90.0, 0.0, -90.0))}
+           "inside": ((0.0, -1.8, 0.0), (90.0, 0.0, -90.0), 0.0)}
 
 
 @pytest.mark.parametrize("view", FRESNEL)
-def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
-    """Red = our group's Fresnel, green = Blender's Fresnel node at IOR 1.333 with the same
-    normal, rendered as emission by EEVEE (one sample, so both at the pixel centre) to float
-    EXR. (Cycles' Fresnel node also bends smooth normals toward valid reflections, so it is not
-    the plain Eq. 1.4 there.)"""
+def test_fresnel(extension, tmp_path, view):
+    """Red = our group's Fresnel, green = Blender's Fresnel node at IOR 1.333, blue = 1 - |N.I|
+    (Layer Weight's Facing), with the same normal, rendered as emission by EEVEE (one sample, so
+    all at the pixel centre) to float EXR. From above ours is Bruneton's mean Fresnel over the
+    unresolved slopes (sigma^2 set on the group): the exact reflectance (Blender's node's) less
+    0.98 ((1 - c)^5 - (1 - c)^(5 e^(-2.69 s)) / (1 + 22.7 s^1.5)), s = sqrt(sigma^2 / 2), which
+    a mirror keeps; from under water the exact one. (Cycles'
+    Fresnel node also bends smooth normals toward valid reflections, so it is not the plain
+    Eq. 1.4 there.)"""
     water = extension.shaders.water
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_uv_sphere_add(radius=2.0, segments=64, ring_count=32)
@@ -146,18 +164,23 @@ def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
     nodes, links = tree.nodes, tree.links
     group = nodes.new("ShaderNodeGroup")
     group.node_tree = water.node_group()
+    location, rotation, rough = FRESNEL[view]
+    group.inputs["Slope Floor"].default_value = rough
+    group.inputs["Slope Ceiling"].default_value = rough
     theirs = nodes.new("ShaderNodeFresnel")
     theirs.inputs["IOR"].default_value = 1.333
+    facing = nodes.new("ShaderNodeLayerWeight")
+    facing.inputs["Blend"].default_value = 0.5
     combine = nodes.new("ShaderNodeCombineColor")
     links.new(group.outputs["Fresnel"], combine.inputs[0])
     links.new(theirs.outputs[0], combine.inputs[1])
+    links.new(facing.outputs["Facing"], combine.inputs[2])
     emission = nodes.new("ShaderNodeEmission")
     links.new(combine.outputs[0], emission.inputs["Color"])
     out = nodes.new("ShaderNodeOutputMaterial")
     links.new(emission.outputs[0], out.inputs["Surface"])
     sphere.data.materials.append(mat)
 
-    location, rotation = FRESNEL[view]
     data = bpy.data.cameras.new("Camera")
     data.lens = 12.0 if view == "inside" else 50.0  # inside: wide, for grazing angles
     cam = bpy.data.objects.new("Camera", data)
@@ -175,13 +198,20 @@ def test_fresnel_matches_blenders_fresnel_node(extension, tmp_path, view):
     bpy.ops.render.render(write_still=True)
     px = oiio.ImageBuf(r.filepath).get_pixels(oiio.FLOAT)
     hit = px[..., 3] > 0.999
-    ours, blenders = px[..., 0][hit], px[..., 1][hit]
+    ours, blenders, grazing = px[..., 0][hit], px[..., 1][hit], px[..., 2][hit]
     assert hit.mean() > 0.2
-    assert np.abs(ours - blenders).max() < 1e-3  # EEVEE's film keeps half floats (2^-11)
-    if view == "outside":  # Schlick would differ by up to ~0.01 over these angles
-        assert blenders.min() < 0.03 and blenders.max() > 0.3
-    else:  # total internal reflection outside Snell's window
+    if view == "inside":  # total internal reflection outside Snell's window
+        assert np.abs(ours - blenders).max() < 1e-3  # EEVEE's film keeps half floats (2^-11)
         assert (blenders > 0.999).mean() > 0.05 and blenders.min() < 0.1
+        return
+    s = np.sqrt(rough / 2.0)
+    mean = grazing ** (5.0 * np.exp(-2.69 * s)) / (1.0 + 22.7 * s**1.5)
+    expected = np.maximum(blenders + 0.98 * (mean - grazing**5), 0.0)
+    assert np.abs(ours - expected).max() < 2e-3
+    assert blenders.min() < 0.03 and blenders.max() > 0.3
+    if rough > 0.0:  # at grazing angles a rough sea reflects less than a mirror
+        edge = grazing > 0.95
+        assert edge.any() and (ours[edge] < 0.8 * blenders[edge]).all()
 
 
 def test_cycles_gives_a_sensible_image(tmp_path):

@@ -21,13 +21,12 @@ def test_bare_calm_ocean_without_sun_needs_nothing():
     d = decide({}, facts())
     assert on(d) == set()
     assert d["local_reflections"][1] == "sky only: nothing above the water is mirrored in view"
-    assert d["sun_glint"][1] == "no sun lamp"
 
 
-def test_sun_above_the_horizon_turns_on_glint_and_below_it_does_not():
-    assert on(decide({}, facts(sun_elevation=35.0))) == {"sun_glint"}
-    d = decide({}, facts(sun_elevation=-5.0))
-    assert not d["sun_glint"][0] and "below the horizon" in d["sun_glint"][1]
+def test_a_sun_alone_calls_for_nothing():
+    """The sun's glint is the water's own reflection of the lamp (shaders/water.py), not an
+    effect."""
+    assert on(decide({}, facts(sun_elevation=35.0))) == set()
 
 
 def test_foam_follows_the_wind():
@@ -40,8 +39,8 @@ def test_foam_follows_the_wind():
 
 
 def test_modes_override_auto_and_bad_modes_name_the_effect():
-    assert decide({"sun_glint": "OFF"}, facts(sun_elevation=30.0))["sun_glint"] == (
-        False, "switched off")
+    assert decide({"godrays": "OFF"}, facts(camera_height=-3.0, sun_elevation=30.0))[
+        "godrays"] == (False, "switched off")
     assert decide({"foam": "ON"}, facts())["foam"] == (True, "switched on")
     with pytest.raises(ValueError, match="foam"):
         decide({"foam": "SOMETIMES"}, facts())
@@ -56,7 +55,7 @@ def test_objects_decide_by_their_place_against_the_water_and_the_view():
     assert not any(d[e][0] for e in
                    ("contact_foam", "refraction", "caustics", "local_reflections"))
     d = decide({}, facts(objects=[boat, rock, gull], sun_elevation=40.0))
-    assert on(d) == {"contact_foam", "refraction", "caustics", "local_reflections", "sun_glint"}
+    assert on(d) == {"contact_foam", "refraction", "caustics", "local_reflections"}
     assert d["contact_foam"][1] == "'Boat' crosses the surface in view"
     assert d["refraction"][1] == "'Boat', 'Rock' is below the surface in view"
     assert d["caustics"][1].startswith("sun 40° above the horizon, 'Boat', 'Rock'")
@@ -67,7 +66,7 @@ def test_objects_decide_by_their_place_against_the_water_and_the_view():
 
 def test_underwater_camera():
     d = decide({}, facts(camera_height=-3.0, sun_elevation=30.0))
-    assert on(d) == {"underwater", "godrays", "sun_glint"}
+    assert on(d) == {"underwater", "godrays"}
     assert d["underwater"][1] == "camera 3 m below the surface"
     assert d["godrays"][1] == "camera 3 m below the surface, sun 30° above the horizon"
     assert not d["refraction"][0] and "below the surface" in d["refraction"][1]

@@ -208,16 +208,67 @@ def test_the_ripples_are_the_spectrum_s_tail():
     assert none.height == 0.0
 
 
-def test_ripples_reach_as_far_as_a_pixel_shows_them():
-    """A 25 cm wave spans 4 pixels out to wavelength / (4 pixel angle)."""
+def test_a_pixel_s_footprint():
+    """PIXELS (2) pixels' footprint: 2 pixel angles per metre of distance in perspective (twice
+    the width, half the footprint), 2 pixels' size everywhere in an orthographic view."""
+    assert shading.PIXELS == 2.0
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     pixel = 2.0 / (proj[0, 0] * 960)
-    assert shading.ripple_reach(proj, 960, 0.25) == pytest.approx(0.25 / (4 * pixel))
-    assert shading.ripple_reach(proj, 1920, 0.25) == pytest.approx(
-        2 * shading.ripple_reach(proj, 960, 0.25))
-    wide, narrow = orthographic(50.0, 1.0, 0.1, 100.0), orthographic(5000.0, 1.0, 0.1, 100.0)
-    assert shading.ripple_reach(wide, 960, 0.25) > 1e6
-    assert shading.ripple_reach(narrow, 960, 0.25) == 0.0
+    assert shading.pixel_footprint(proj, 960) == pytest.approx((np.log(2.0 * pixel), 1.0))
+    assert shading.pixel_footprint(proj, 1920)[0] == pytest.approx(
+        shading.pixel_footprint(proj, 960)[0] - np.log(2.0))
+    ortho = orthographic(50.0, 1.0, 0.1, 100.0)
+    assert shading.pixel_footprint(ortho, 1000) == pytest.approx((np.log(2 * 50.0 / 1000), 0.0))
+
+
+def slope_variance(source, t=2.0, n=100_000, e=0.005):
+    """The mean square slope of a source's surface, by central differences at random points."""
+    x, y = np.random.default_rng(6).uniform(0.0, 3000.0, (2, n))
+    gx = (source.heights(x + e, y, t) - source.heights(x - e, y, t)) / (2 * e)
+    gy = (source.heights(x, y + e, t) - source.heights(x, y - e, t)) / (2 * e)
+    return float(np.mean(gx * gx + gy * gy))
+
+
+@pytest.mark.parametrize("source", [
+    SpectralField(SeaState(wind_speed=7.0), seed=2), SpectralField(SeaState(wind_speed=16.0)),
+    HeightField(amplitude=0.8, wave_scale=30.0, octaves=6, method="exact")],
+    ids=["spectrum 7 m/s", "spectrum 16 m/s", "noise"])
+def test_the_slopes_drawn_are_the_surface_s(source):
+    """The slope variance `slopes` reports for the geometry is the synthesised surface's (10 %):
+    the filtering adds to it what the shader and the roughness carry."""
+    slopes = source.slopes
+    assert slope_variance(source) == pytest.approx(slopes.total - slopes.ripple, rel=0.10)
+
+
+def spectrum_slopes(state, shortest, longest=2e4, samples=20_000):
+    """The spectrum's slope variance from `shortest` to `longest` (m), integrated here anew."""
+    k = np.geomspace(2 * np.pi / longest, 2 * np.pi / shortest, samples)
+    w = np.sqrt(GRAVITY * k)
+    s = spectrum.wind_spectrum(w, state) + spectrum.swell_spectrum(w, state)
+    return float(np.trapezoid(k * k * s * np.gradient(w, k), k))
+
+
+@pytest.mark.parametrize("u", [3.0, 6.0, 10.0, 15.0, 20.0])
+def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
+    """At every distance the slope variance the geometry and the normals draw (the spectrum's
+    above the footprint, the ripples' bump as drawn) plus the roughness of the rest is Cox and
+    Munk's 0.003 + 5.12e-3 U(12.5 m) within 20 %, U(12.5 m) from U(10 m) by the log profile."""
+    state = SeaState(wind_speed=u)
+    source = SpectralField(state)
+    proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+    f = shading.filtering(proj, 1920, source.slopes, u)
+    top = spectral_field.bands()[-1][0]
+    ripple = source.slopes.ripple
+    cox_munk = 0.003 + 5.12e-3 * u * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
+    for d in (1.0, 10.0, 100.0, 1e3, 1e4):
+        for cos in (1.0, 0.05):
+            lp = float(np.exp(shading.footprint_log(f, d, cos)))
+            drawn = spectrum_slopes(state, max(lp, top))
+            shown = 1.0 - shading.undrawn_share(f.ripple_top_log, f.shortest_log, np.log(lp))
+            drawn += f.ripple_gain**2 * ripple * shown
+            rough = float(shading.unresolved_slope_variance(f, d, cos))
+            assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lp)
+    assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn
 
 
 def test_bad_sea_states_name_the_setting():

@@ -3,6 +3,7 @@ Blender's Ocean modifier and a world-space grid of the same vertex count, and EE
 
 import importlib
 import itertools
+import math
 import os
 import tempfile
 import time
@@ -202,6 +203,74 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
                          "samples": n, "seconds": seconds,
                          "rms_error": float(np.sqrt(np.mean((img - ref) ** 2)))})
     ocean.data.materials[0] = water
+    return rows
+
+
+# name: (camera height m, pitch deg, yaw deg): toward the low sun from near the water, away
+# from it from high up; the camera moves FLICKER_STEP m a frame along its view.
+FLICKER_SHOTS = (("low, toward the sun", 6.0, -3.0, 0.0), ("aerial, away", 150.0, -12.0, 180.0))
+FLICKER_STEP = 0.5
+
+
+def _rows_below_horizon(pitch, size, degrees, lens=35.0):
+    """The image rows (top, bottom) from the horizon to `degrees` below it, for a camera
+    pitched `pitch` degrees (down negative) with a 36 mm wide sensor."""
+    half = math.atan(36.0 / 2.0 / lens * size[1] / size[0])  # half the vertical field
+
+    def row(angle):  # angle above the view axis
+        return int(round(size[1] / 2.0 * (1.0 - math.tan(math.radians(angle)) / math.tan(half))))
+    return row(-pitch), row(-pitch - degrees)
+
+
+def flicker(size=(320, 180), samples=4, frames=4):
+    """How much the far field (the horizon to 10° below it) changes from frame to frame as the
+    camera moves, with the filtering (shading.Filtering) and without it (every wave drawn as
+    normals, a mirror's roughness and Fresnel), at equal samples: the mean per-pixel change of
+    linear luminance; and the near field's contrast (below that band, across each row)."""
+    import dataclasses
+
+    from tools.demo import default_shot
+
+    shading = importlib.import_module(f"{MODULE}.projgrid_addon.shading")
+    filtering = shading.filtering
+
+    def unfiltered(*args):
+        return dataclasses.replace(filtering(*args), pixel_log=-50.0, floor=0.0, ripple=0.0,
+                                   ripple_gain=1.0, density=0.0, ceiling=0.0)
+    weights = np.array([0.2126, 0.7152, 0.0722])
+    tmp = tempfile.mkdtemp(prefix="projgrid-flicker-")
+    rows = []
+    try:
+        for shot, height, pitch, yaw in FLICKER_SHOTS:
+            top, bottom = _rows_below_horizon(pitch, size, 10.0)
+            for variant in ("filtered", "unfiltered"):
+                shading.filtering = filtering if variant == "filtered" else unfiltered
+                bpy.ops.wm.read_homefile(use_empty=True)
+                scene = bpy.context.scene
+                cam = default_shot(scene, size=size, samples=samples, height=height,
+                                   pitch=pitch)
+                cam.rotation_euler.z = math.radians(yaw)
+                heading = np.array([-math.sin(math.radians(yaw)), math.cos(math.radians(yaw))])
+                images = []
+                for k in range(frames):
+                    cam.location.x, cam.location.y = FLICKER_STEP * k * heading
+                    scene.frame_set(24 + k)
+                    scene.render.filepath = os.path.join(tmp, f"{variant}-{k}.png")
+                    bpy.ops.render.render(write_still=True)
+                    img = oiio.ImageBuf(scene.render.filepath).get_pixels(oiio.FLOAT)[..., :3]
+                    linear = np.where(img <= 0.04045, img / 12.92,
+                                      ((img + 0.055) / 1.055) ** 2.4)
+                    images.append(linear @ weights)
+                far = [np.abs(b[top:bottom] - a[top:bottom]).mean()
+                       for a, b in zip(images[:-1], images[1:], strict=True)]
+                near = [float((i[bottom:] - i[bottom:].mean(axis=1, keepdims=True)).std())
+                        for i in images]
+                rows.append({"shot": shot, "variant": variant, "flicker": float(np.mean(far)),
+                             "near_contrast": float(np.mean(near)),
+                             "far_luminance": float(np.mean([i[top:bottom].mean()
+                                                             for i in images]))})
+    finally:
+        shading.filtering = filtering
     return rows
 
 
