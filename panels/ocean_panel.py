@@ -1,5 +1,6 @@
 """The 3D View sidebar tab "Ocean": Add Ocean and Live Preview, then sub-panels for the waves,
-the grids, the effects and the live status, as Blender's own panels lay out settings."""
+the grids, the look, the effects and the live status, as Blender's own panels lay out
+settings."""
 
 import bpy
 
@@ -37,6 +38,16 @@ def stats_lines(obj, the_scene):
         lines.append(("LOCKED", "Lock Interface is off: renders need it (Render > Lock "
                       "Interface), since the ocean is rebuilt while rendering"))
     return lines
+
+
+def look_note(obj):
+    """Why the Look settings change nothing, or None: the ocean wears the user's own material
+    (never written)."""
+    data = obj.data
+    mat = data.materials[0] if data is not None and len(data.materials) else None
+    if mat is not None and not scene.owns(mat):
+        return f"Material {mat.name!r} is your own: these settings leave it as it is"
+    return None
 
 
 def effect_lines(obj):
@@ -126,6 +137,21 @@ class VIEW3D_PT_projgrid_grid(_OceanSubPanel, bpy.types.Panel):
         col.prop(s, "render_resolution_x", text="Render X")
         col.prop(s, "render_resolution_y", text="Y")
         self.layout.prop(s, "projector_elevation")
+
+
+class VIEW3D_PT_projgrid_look(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Look"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        s = self.settings(context)
+        col = self.layout.column()
+        col.prop(s, "water_colour")
+        col.prop(s, "clarity")
+        col.prop(s, "foam_colour")
+        note = look_note(active_ocean(context))
+        if note:
+            self.layout.label(text=note, icon="INFO")
 
 
 class VIEW3D_PT_projgrid_effects(_OceanSubPanel, bpy.types.Panel):

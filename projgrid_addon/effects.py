@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .projected_grid import grid_derivative
-from .validation import finite, non_negative
+from .validation import finite, non_negative, positive
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
            "local_reflections")
@@ -39,6 +39,15 @@ FOAM_PERIOD = 1.0  # seconds between the foam's calibrations (foam_thresholds)
 # Absorption a (1/m) per RGB channel of clear coastal sea water (Fleck Eq. 17): red light is
 # gone after a few metres, blue travels tens.
 ABSORPTION = (0.45, 0.09, 0.06)
+# The water's clarity: the distance (m) over which its clearest channel keeps 1/e of its light.
+CLARITY = 1.0 / min(ABSORPTION)
+
+
+def absorption(clarity):
+    """Absorption per metre per RGB channel of water whose clearest channel keeps 1/e of its
+    light over `clarity` metres: clear coastal water's (ABSORPTION), scaled."""
+    clarity = positive("clarity", clarity)
+    return tuple(a * CLARITY / clarity for a in ABSORPTION)
 # Caustic shadow transparency of flat water; focused light rises to 1 (the most a shadow passes).
 CAUSTIC_MEAN = 0.5
 

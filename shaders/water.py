@@ -29,21 +29,26 @@ Over 300 lines on purpose: one node tree, built top to bottom as the shading mod
 (detail, Fresnel, glint, refraction, foam), plus the versioned material that carries it.
 """
 
+import math
+
 import bpy
 import numpy as np
 
 from .nodes import TAG, Graph, assign, empty_tree
 
 E = 2.718281828459045  # the natural logarithm's base
+LN2 = 0.6931471805599453
 
 GROUP = "Projected Grid Water"
 MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 9  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 10  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
-FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre
+FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
+FOAM_STREAK = 4.0  # and this many times more across it
+WHITECAP = 2.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
@@ -53,8 +58,11 @@ EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
 
-INPUTS = (  # name, socket type, default; all but the first two are written by the frame handler
-    ("Water Colour", "NodeSocketColor", (0.004, 0.016, 0.024, 1.0)),
+WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear)
+FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
+INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
+    ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),
+    ("Foam Colour", "NodeSocketColor", (*FOAM_COLOUR, 1.0)),
     ("IOR", "NodeSocketFloat", 1.333),
     ("Detail Scale", "NodeSocketFloat", 1.0),
     ("Detail Height", "NodeSocketFloat", 0.0),
@@ -67,6 +75,8 @@ INPUTS = (  # name, socket type, default; all but the first two are written by t
     ("Ripple Height", "NodeSocketFloat", 0.0),
     ("Ripple Octaves", "NodeSocketFloat", 0.0),
     ("Ripple Time", "NodeSocketFloat", 0.0),
+    ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
+    ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
     ("Distance Power", "NodeSocketFloat", 1.0),
@@ -121,30 +131,41 @@ def _build(group):
         return g.math("DIVIDE", g.math("SUBTRACT", footprint, bottom),
                       g.math("MAXIMUM", g.math("SUBTRACT", top, bottom), 1e-6), clamp=True)
 
+    def drawn_noise(vector, time, scale, octaves, roughness, height, top_log):
+        """A fractal noise bump of `octaves` octaves past its first (wavelength e^top_log,
+        halving), keeping only those a pixel shows here: the noise's Detail is cut per pixel
+        (finer octaves would alias and flicker; their slopes are the roughness), its height
+        kept per octave (Blender normalises the fractal by its octaves' amplitude sum), and the
+        first octave fades over its last doubling of the footprint. (strength, distance,
+        height) for a Bump node."""
+        shown = g.math("DIVIDE", g.math("SUBTRACT", top_log, footprint), LN2)  # log2(top / L_p)
+        detail = g.math("MINIMUM", g.math("MAXIMUM", shown, 0.0), octaves)
+        fac = g.node("ShaderNodeTexNoise", {"Vector": vector, "W": time, "Scale": scale,
+                                            "Detail": detail, "Roughness": roughness},
+                     noise_dimensions="4D").outputs["Fac"]
+        r = g.math("MINIMUM", roughness, 0.999)  # (1 - r^(n+1)) / (1 - r): n + 1 at r = 1
+        kept = g.math("DIVIDE", g.math("SUBTRACT", 1.0, g.math("POWER", r, g.math(
+            "ADD", detail, 1.0))), g.math("MAXIMUM", g.math("SUBTRACT", 1.0, g.math(
+                "POWER", r, g.math("ADD", octaves, 1.0))), 1e-6))
+        strength = g.math("ADD", shown, 1.0, clamp=True)
+        return strength, g.math("MULTIPLY", height, kept), fac
+
     # Left-out octaves as bump detail: full where the vertices carry none of the first shader
     # octave (lod <= first), none where they carry it whole; and only as far as a pixel shows
-    # them (the root of the drawn share of their slopes).
+    # them.
     lod_fade = g.math("SUBTRACT", g.math("ADD", i["Detail First Octave"], 1.0), lod, clamp=True)
-    detail_out = undrawn(i["Detail Top Log"], i["Ripple Top Log"])
-    fade = g.math("MULTIPLY", lod_fade, g.math("SQRT", g.math("SUBTRACT", 1.0, detail_out)))
-    noise = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Detail Time"],
-                                          "Scale": i["Detail Scale"],
-                                          "Detail": i["Detail Octaves"],
-                                          "Roughness": i["Detail Roughness"]},
-                   noise_dimensions="4D")
-    bump = g.node("ShaderNodeBump", {"Strength": fade, "Distance": i["Detail Height"],
-                                     "Height": noise.outputs["Fac"]})
-    normal = bump.outputs["Normal"]
+    strength, height, fac = drawn_noise(geo["Position"], i["Detail Time"], i["Detail Scale"],
+                                        i["Detail Octaves"], i["Detail Roughness"],
+                                        i["Detail Height"], i["Detail Top Log"])
+    normal = g.node("ShaderNodeBump", {"Strength": g.math("MULTIPLY", lod_fade, strength),
+                                       "Distance": height, "Height": fac}).outputs["Normal"]
     # Ripples shorter than any wave the sea synthesises, as far as a pixel shows them.
+    strength, height, fac = drawn_noise(geo["Position"], i["Ripple Time"], i["Ripple Scale"],
+                                        i["Ripple Octaves"], 0.5, i["Ripple Height"],
+                                        i["Ripple Top Log"])
+    normal = g.node("ShaderNodeBump", {"Strength": strength, "Distance": height, "Height": fac,
+                                       "Normal": normal}).outputs["Normal"]
     ripple_out = undrawn(i["Ripple Top Log"], i["Shortest Log"])
-    ripple = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Ripple Time"],
-                                           "Scale": i["Ripple Scale"],
-                                           "Detail": i["Ripple Octaves"], "Roughness": 0.5},
-                    noise_dimensions="4D")
-    normal = g.node("ShaderNodeBump", {
-        "Strength": g.math("SQRT", g.math("SUBTRACT", 1.0, ripple_out)),
-        "Distance": i["Ripple Height"], "Height": ripple.outputs["Fac"],
-        "Normal": normal}).outputs["Normal"]
 
     # The slope variance of the waves not drawn here: the microfacets' roughness.
     beyond = g.math("MAXIMUM", g.math("SUBTRACT", footprint, i["Ripple Top Log"]), 0.0)
@@ -199,17 +220,33 @@ def _build(group):
                                             2: reflection.outputs[0]})
     # Foam (Jensen and Golias): a rough white cover where the crests carry it, broken into
     # patches by a noise under a metre across whose factor averages 1 (the covered share stays
-    # the calibrated one), so a whitecap is not the round blob the vertices interpolate.
+    # the calibrated one), so a whitecap is not the round blob the vertices interpolate; the
+    # noise is FOAM_STREAK times finer across the wind than along it: the wind draws foam out
+    # into streaks.
     foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
-    grain = g.node("ShaderNodeTexNoise", {"Vector": geo["Position"], "W": i["Detail Time"],
+    wind = g.node("ShaderNodeCombineXYZ", {"X": g.math("COSINE", i["Wind Direction"]),
+                                           "Y": g.math("SINE", i["Wind Direction"])}).outputs[0]
+    across = g.node("ShaderNodeCombineXYZ", {"X": g.math("MULTIPLY", g.math(
+        "SINE", i["Wind Direction"]), -FOAM_STREAK), "Y": g.math("MULTIPLY", g.math(
+            "COSINE", i["Wind Direction"]), FOAM_STREAK)}).outputs[0]
+    streaked = g.node("ShaderNodeCombineXYZ", {
+        "X": g.vector("DOT_PRODUCT", geo["Position"], wind),
+        "Y": g.vector("DOT_PRODUCT", geo["Position"], across)}).outputs[0]
+    grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": i["Detail Time"],
                                           "Scale": FOAM_GRAIN, "Detail": 4.0,
                                           "Roughness": 0.65}, noise_dimensions="4D")
-    foam = g.math("MULTIPLY", foam, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5),
-                  clamp=True)
+    # Where the pixel outgrows the grain's streaks, its mean (1); where it outgrows a whitecap,
+    # the sea's mean cover (per-vertex foam on a grid that moves with the camera would pop).
+    grain_shown = g.math("ADD", g.math("DIVIDE", g.math(
+        "SUBTRACT", -math.log(FOAM_GRAIN * FOAM_STREAK), footprint), LN2), 1.0, clamp=True)
+    grain = g.mix(grain_shown, 1.0, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5))
+    whole = g.math("DIVIDE", g.math("SUBTRACT", footprint, math.log(WHITECAP)), LN2,
+                   clamp=True)
+    foam = g.mix(whole, g.math("MULTIPLY", foam, grain, clamp=True), i["Foam Coverage"])
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {
-        0: g.node("ShaderNodeBsdfDiffuse", {"Color": (0.7, 0.7, 0.7, 1.0),
+        0: g.node("ShaderNodeBsdfDiffuse", {"Color": i["Foam Colour"],
                                             "Normal": normal}).outputs[0],
         1: g.node("ShaderNodeBsdfGlossy", {"Color": (0.25, 0.25, 0.25, 1.0), "Roughness": 0.6,
                                            "Normal": normal}).outputs[0]})
@@ -263,12 +300,11 @@ def body_material(absorption, tile_texels):
     mat, g = _versioned_material(BODY_MATERIAL)
     if g is None:
         return mat
-    a = np.array(absorption)
-    emitted = a * np.array(INPUTS[0][2][:3])  # e = a * water colour: L -> water colour
-    absorb = g.node("ShaderNodeVolumeAbsorption", {"Color": (*(1.0 - a / a.max()), 1.0),
-                                                   "Density": float(a.max())})
-    glow = g.node("ShaderNodeEmission", {"Color": (*(emitted / emitted.max()), 1.0),
-                                         "Strength": float(emitted.max())})
+    absorb = g.node("ShaderNodeVolumeAbsorption")
+    absorb.name = "Absorption"
+    glow = g.node("ShaderNodeEmission")
+    glow.name = "Water Glow"
+    update_body(mat, absorption, WATER_COLOUR)
     water = g.node("ShaderNodeAddShader", {0: absorb.outputs[0], 1: glow.outputs[0]})
     position = g.node("ShaderNodeNewGeometry").outputs["Position"]
     uv = []
@@ -290,6 +326,22 @@ def body_material(absorption, tile_texels):
     out = g.node("ShaderNodeOutputMaterial")
     g.set(out.inputs["Volume"], godrays.outputs[0])
     return mat
+
+
+def update_body(mat, absorption, water_colour):
+    """The water body's absorption per metre (RGB) and its glow e = a * water colour, so that
+    radiance after d metres tends to the water colour (Fleck Eq. 14, 17); written only when
+    they change."""
+    nodes = mat.node_tree.nodes
+    absorb, glow = nodes.get("Absorption"), nodes.get("Water Glow")
+    if absorb is None or glow is None:
+        return
+    a = np.maximum(np.asarray(absorption, dtype=np.float64), 1e-9)
+    emitted = np.maximum(a * np.asarray(water_colour, dtype=np.float64), 1e-12)
+    assign(absorb.inputs["Color"], default_value=(*(1.0 - a / a.max()), 1.0))
+    assign(absorb.inputs["Density"], default_value=float(a.max()))
+    assign(glow.inputs["Color"], default_value=(*(emitted / emitted.max()), 1.0))
+    assign(glow.inputs["Strength"], default_value=float(emitted.max()))
 
 
 def caustic_image(size):
@@ -376,12 +428,15 @@ def material_of(mesh):
 
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
-           filtering):
+           filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
+           foam_coverage=0.0):
     """A frame's inputs into our water material's group, each written only when it changed:
-    which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail, its
-    longest wave's natural log as `top_log`) and the ripples (shading.Detail), whose times
-    drivers advance with the frame (subframes included), so an animation writes nothing per
-    frame; and the filtering of the waves too short to draw (shading.Filtering)."""
+    which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
+    the ripples (shading.Detail), whose times drivers advance with the frame (subframes
+    included), so an animation writes nothing per frame; the filtering of the waves too short
+    to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
+    (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
+    where a pixel outgrows a whitecap."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -398,10 +453,14 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Pixel Log": filtering.pixel_log, "Distance Power": filtering.distance_power,
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
-        "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling}
+        "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
+        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))
+    for name, colour in (("Water Colour", water_colour), ("Foam Colour", foam_colour)):
+        if name in inputs:
+            assign(inputs[name], default_value=(*colour, 1.0))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
     drive_by_frame(mat.node_tree, inputs["Ripple Time"], ripple_time_per_frame)
 

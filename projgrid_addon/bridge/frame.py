@@ -108,7 +108,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
                                   settings)
         key = (render, res, camera_key, world.tobytes(), t,
-               tuple(getattr(settings, p) for p in scene.SETTINGS), surface.data.session_uid,
+               tuple(getattr(settings, p) for p in scene.SETTINGS), scene.look(settings),
+               surface.data.session_uid,
                facts.key())
         if key == state.key:
             return None
@@ -118,6 +119,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         volume_reach = (float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                         else 100.0)
         per_frame = shot.seconds_per_frame(the_scene)
+        water_colour, foam_colour, clarity = scene.look(settings)
+        absorption = effects.absorption(clarity)
 
         # Build (thesis §2.4), decide the effects, compute the fields of those on.
         start = time.perf_counter()
@@ -167,15 +170,19 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     material = water.material_of(surface.data)
     if material is not None:
         water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
-                     ripple.time_rate * per_frame, filtering)
+                     ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
+                     settings.wind_direction,
+                     effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0)
     if making:
         if restructured:
             companions.ensure_companions(surface)
         companions.own_material(surface)  # a material shared by hand is split at once
     body = surface.projgrid.water_body
-    if godrays is not None and body is not None and scene.owns(body):
-        body_material = water.material_of(body.data)
-        if body_material is not None:
+    body_material = (water.material_of(body.data) if body is not None and scene.owns(body)
+                     else None)
+    if body_material is not None:
+        water.update_body(body_material, absorption, water_colour)
+        if godrays is not None:
             water.update_godrays(body_material, *godrays)
     companions.place_companions(surface, cam, level, hf.bound, on, in_use, volume_reach,
                                 hidden)

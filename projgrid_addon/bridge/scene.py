@@ -31,6 +31,8 @@ SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resol
             "projector_elevation", "noise", "wind_speed", "height_source", "spectrum",
             "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
             "swell_period", *effects.EFFECTS)
+# The ocean's look: colours and clarity written into our materials (part of a build's key).
+LOOK = ("water_colour", "foam_colour", "clarity")
 # The effects whose AUTO decision looks at the objects in view (and the ON ones that use them).
 OBJECT_EFFECTS = ("contact_foam", "refraction", "caustics", "local_reflections")
 
@@ -48,6 +50,12 @@ def writable(obj):
     """Whether the ocean's own mesh is ours to write: a local object with a local mesh (a linked
     ocean's or a library override's mesh belongs to its library, which we never write)."""
     return local(obj) and obj.data is not None and local(obj.data)
+
+
+def look(settings):
+    """The (possibly evaluated) settings' LOOK as plain values."""
+    return tuple(tuple(v) if hasattr(v, "__len__") else float(v)
+                 for v in (getattr(settings, p) for p in LOOK))
 
 
 def height_field(settings):

@@ -3,8 +3,16 @@
 from contextlib import contextmanager
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import (
+    BoolProperty,
+    EnumProperty,
+    FloatProperty,
+    FloatVectorProperty,
+    IntProperty,
+    PointerProperty,
+)
 
+from ...shaders import water
 from .. import effects
 from . import frame
 from .state import RUNTIME
@@ -118,6 +126,18 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     wind_speed: _float("Wind Speed", "Wind at 10 m above the sea: raises the waves of the "
                        "spectrum and sets the foam's whitecap coverage (Monahan and Mac "
                        "Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+    water_colour: FloatVectorProperty(
+        name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,
+        default=water.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,
+        description="Deep water seen from above: the light it scatters back up (and the "
+        "colour the water body tends to with depth)")
+    clarity: _float("Clarity", "How far one sees through the water: over this distance its "
+                    "clearest (blue) light keeps 1/e of its strength; red fades 7.5 times "
+                    "sooner", effects.CLARITY, 0.1, 1e4, 100.0, "LENGTH")
+    foam_colour: FloatVectorProperty(
+        name="Foam Colour", subtype="COLOR", size=3, min=0.0, max=1.0,
+        default=water.FOAM_COLOUR, update=_settings_changed, override=OVERRIDABLE,
+        description="The diffuse colour of the foam's bubbles")
     foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
     contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")
     underwater: _mode("underwater", "Snell's window and absorption fog with the camera below "

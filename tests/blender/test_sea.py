@@ -178,3 +178,44 @@ def test_a_file_saved_while_rendering_is_mended_at_load(bridge, tmp_path):
     bpy.ops.wm.open_mainfile(filepath=path)
     obj = bpy.data.objects["Ocean"]
     assert obj.projgrid.render_mesh is None and obj.data.name == "Ocean Render"
+
+
+def group_input(obj, name):
+    return obj.data.materials[0].node_tree.nodes["Projected Grid Water"].inputs[name]
+
+
+def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
+    """Water colour, foam colour and clarity reach our water material and water body (the body
+    absorbs as clear coastal water scaled to the clarity), keyframed too; a material of the
+    user's is left as it is, and the panel says so."""
+    s = sea.projgrid
+    s.water_colour = (0.01, 0.05, 0.04)
+    s.foam_colour = (0.9, 0.85, 0.8)
+    s.clarity = 5.0
+    assert tuple(group_input(sea, "Water Colour").default_value)[:3] == pytest.approx(
+        (0.01, 0.05, 0.04))
+    assert tuple(group_input(sea, "Foam Colour").default_value)[:3] == pytest.approx(
+        (0.9, 0.85, 0.8))
+    body = s.water_body.data.materials[0].node_tree.nodes
+    absorption = extension.projgrid_addon.effects.absorption(5.0)
+    assert absorption[2] == pytest.approx(1.0 / 5.0)  # blue keeps 1/e over the clarity
+    assert body["Absorption"].inputs["Density"].default_value == pytest.approx(
+        max(absorption), rel=1e-5)
+
+    scene = bpy.context.scene
+    s.water_colour = (0.0, 0.0, 0.0)
+    s.keyframe_insert("water_colour", frame=1)
+    s.water_colour = (0.2, 0.4, 0.6)
+    s.keyframe_insert("water_colour", frame=11)
+    scene.frame_set(6)
+    assert tuple(group_input(sea, "Water Colour").default_value)[:3] == pytest.approx(
+        (0.1, 0.2, 0.3), abs=1e-3)
+
+    panel = extension.panels.ocean_panel
+    assert panel.look_note(sea) is None
+    mine = bpy.data.materials.new("My Water")
+    sea.data.materials[0] = mine
+    s.water_colour = (0.5, 0.5, 0.5)
+    assert "My Water" in panel.look_note(sea)
+    assert not mine.get("projgrid_ocean")
+    assert mine.node_tree is None or "Projected Grid Water" not in mine.node_tree.nodes

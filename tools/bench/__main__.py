@@ -57,7 +57,7 @@ def main(quick=False, only=None):
         ("render", lambda: blender_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
-        ("flicker", lambda: blender_bench.flicker(frames=3 if quick else 4)),
+        ("flicker", lambda: blender_bench.flicker(DOCS, frames=3 if quick else 4)),
         ("pictures", lambda: pictures(quick)),  # last: it starts from empty files
     ]
     if only:  # re-measure some steps, keep the others from the last run

@@ -222,11 +222,23 @@ def _rows_below_horizon(pitch, size, degrees, lens=35.0):
     return row(-pitch), row(-pitch - degrees)
 
 
-def flicker(size=(320, 180), samples=4, frames=4):
+def _contrast(img, block=4):
+    """The spread of `block`-pixel squares' means across each row: the waves' structure, not
+    one pixel's noise."""
+    h, w = (img.shape[0] // block) * block, (img.shape[1] // block) * block
+    means = img[:h, :w].reshape(h // block, block, w // block, block).mean(axis=(1, 3))
+    return float((means - means.mean(axis=1, keepdims=True)).std())
+
+
+def flicker(out_dir, size=(320, 180), samples=4, frames=4):
     """How much the far field (the horizon to 10° below it) changes from frame to frame as the
-    camera moves, with the filtering (shading.Filtering) and without it (every wave drawn as
-    normals, a mirror's roughness and Fresnel), at equal samples: the mean per-pixel change of
-    linear luminance; and the near field's contrast (below that band, across each row)."""
+    camera moves over a still sea, with the filtering (shading.Filtering) and without it (every
+    wave drawn as normals, a mirror's roughness and Fresnel), at equal samples: the mean
+    per-pixel change of linear luminance from frame to frame, and its second difference over
+    three frames (steady motion cancels there, flicker does not); and the near field's
+    contrast (below that band, across each row, of 4-pixel squares). Each shot's first frame,
+    without and with the filtering side by side, is written to `out_dir` as
+    bench_horizon_<n>.png."""
     import dataclasses
 
     from tools.demo import default_shot
@@ -241,9 +253,10 @@ def flicker(size=(320, 180), samples=4, frames=4):
     tmp = tempfile.mkdtemp(prefix="projgrid-flicker-")
     rows = []
     try:
-        for shot, height, pitch, yaw in FLICKER_SHOTS:
+        for n, (shot, height, pitch, yaw) in enumerate(FLICKER_SHOTS):
             top, bottom = _rows_below_horizon(pitch, size, 10.0)
-            for variant in ("filtered", "unfiltered"):
+            firsts = {}
+            for variant in ("unfiltered", "filtered"):
                 shading.filtering = filtering if variant == "filtered" else unfiltered
                 bpy.ops.wm.read_homefile(use_empty=True)
                 scene = bpy.context.scene
@@ -254,21 +267,31 @@ def flicker(size=(320, 180), samples=4, frames=4):
                 images = []
                 for k in range(frames):
                     cam.location.x, cam.location.y = FLICKER_STEP * k * heading
-                    scene.frame_set(24 + k)
+                    scene.frame_set(24)  # the sea still: what changes is the camera's doing
                     scene.render.filepath = os.path.join(tmp, f"{variant}-{k}.png")
                     bpy.ops.render.render(write_still=True)
                     img = oiio.ImageBuf(scene.render.filepath).get_pixels(oiio.FLOAT)[..., :3]
+                    firsts.setdefault(variant, img)
                     linear = np.where(img <= 0.04045, img / 12.92,
                                       ((img + 0.055) / 1.055) ** 2.4)
                     images.append(linear @ weights)
                 far = [np.abs(b[top:bottom] - a[top:bottom]).mean()
                        for a, b in zip(images[:-1], images[1:], strict=True)]
-                near = [float((i[bottom:] - i[bottom:].mean(axis=1, keepdims=True)).std())
-                        for i in images]
+                # The second difference: a steady motion's change cancels, a flicker's not.
+                bent = [np.abs(c[top:bottom] - 2.0 * b[top:bottom] + a[top:bottom]).mean()
+                        for a, b, c in zip(images[:-2], images[1:-1], images[2:], strict=True)]
+                near = [_contrast(i[bottom:]) for i in images]
                 rows.append({"shot": shot, "variant": variant, "flicker": float(np.mean(far)),
+                             "flicker_2": float(np.mean(bent)),
                              "near_contrast": float(np.mean(near)),
                              "far_luminance": float(np.mean([i[top:bottom].mean()
-                                                             for i in images]))})
+                                                             for i in images])),
+                             "picture": f"bench_horizon_{n}.png"})
+            pair = np.concatenate([firsts["unfiltered"], np.ones((size[1], 4, 3)),
+                                   firsts["filtered"]], axis=1)
+            buf = oiio.ImageBuf(oiio.ImageSpec(pair.shape[1], pair.shape[0], 3, oiio.UINT8))
+            buf.set_pixels(oiio.ROI(), pair.astype(np.float32))
+            buf.write(os.path.join(out_dir, f"bench_horizon_{n}.png"))
     finally:
         shading.filtering = filtering
     return rows
