@@ -41,12 +41,13 @@ def stats_lines(obj, the_scene):
 
 
 def look_note(obj):
-    """Why the Look settings change nothing, or None: the ocean wears the user's own material
-    (never written)."""
+    """What the Look settings leave alone, or None: the ocean wears the user's own material
+    (never written; Clarity and Water Colour still set our water body under it)."""
     data = obj.data
     mat = data.materials[0] if data is not None and len(data.materials) else None
     if mat is not None and not scene.owns(mat):
-        return f"Material {mat.name!r} is your own: these settings leave it as it is"
+        return (f"Material {mat.name!r} is your own: the colours leave it as it is (Clarity "
+                "and Water Colour still tint the water body below)")
     return None
 
 

@@ -12,8 +12,8 @@ from .camera import FRUSTUM_EDGES
 # The fitted volumes, thinnest first: the sea's standard deviation times these, above and below
 # S_base (and its choppy displacement's, sideways). A linear sea's heights are Gaussian and a
 # crest outreaches 2 sigma at 2 % of points, but only those under the screen's border matter,
-# and the range leaves slack there: the border check turns the thinnest down in a few frames in
-# a hundred (docs/benchmarks.md §5).
+# and the range leaves slack there: the border check seldom turns the thinnest down
+# (docs/benchmarks.md §5).
 FIT_SIGMAS = (2.0, 3.0, 5.0)
 
 
@@ -76,6 +76,6 @@ def fitted_extents(source, full):
     for sigmas in FIT_SIGMAS:
         extent = Extent(lower=min(sigmas * height, full.lower),
                         upper=min(sigmas * height, full.upper),
-                        side=min(sigmas * side, full.side), fitted=True)
+                        side=sigmas * side, fitted=True)  # (the true side varies in time)
         if not full <= extent:
             yield extent

@@ -220,7 +220,8 @@ class HeightField:
         return shading.Detail(first=int(first), scale=1.0 / self.wavelength(first),
                               octaves=float(max(count - 1, 0)),
                               roughness=min(self.roughness, 1.0),
-                              height=float(std / shading.NOISE_FAC_STD),
+                              height=float(std / shading.noise_fac_std(
+                                  max(count - 1, 0), min(self.roughness, 1.0))),
                               time_rate=float(self.time_coordinate(first, 1.0)))
 
     def ripple(self):

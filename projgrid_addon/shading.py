@@ -2,8 +2,7 @@
 
 The octaves the grid's band limit left out (band_limit.shader_octaves) come back in the shader
 as bump detail: a fractal from the first left-out octave on, at its wavelength, height and time
-rate (each height source's `shader_detail`). The sun glint (§3.4.5) needs the direction towards
-the sun and whether it is above the horizon.
+rate (each height source's `shader_detail`).
 
 Waves too short for a pixel become the surface's roughness (Bruneton, Neyret and Holzschuch,
 *Real-time Realistic Ocean Lighting using Seamless Transitions from Geometry to BRDF*, 2010): a
@@ -19,6 +18,17 @@ import numpy as np
 # The standard deviation of Blender's noise texture Fac (4D, Detail 2, roughness 0.5), measured
 # in an EEVEE render of 400 features: a bump of Distance d moves the surface by 0.072 d (rms).
 NOISE_FAC_STD = 0.072
+
+
+def noise_fac_std(detail, roughness):
+    """NOISE_FAC_STD for another Detail and roughness: Blender divides its fractal by the sum of
+    its octaves' amplitudes r^i, so the spread is one octave's times sqrt(sum r^2i) / sum r^i
+    (the octaves independent)."""
+    def spread(n, r):
+        amps = r ** np.arange(int(n) + 1)
+        return float(np.sqrt(np.sum(amps**2)) / np.sum(amps))
+    r = min(max(float(roughness), 0.0), 1.0)  # the noise node clamps it
+    return NOISE_FAC_STD / spread(2, 0.5) * spread(max(detail, 0.0), r)
 
 
 @dataclass(frozen=True)
@@ -79,7 +89,7 @@ class Filtering:
     """The shader's per-pixel slope variance of the waves too short to draw (Bruneton 2010).
     With L_p the shortest wave drawn, PIXELS pixels' footprint at distance d seen at cos:
 
-        ln L_p  = distance_power ln(d / sqrt(cos)) + pixel_log
+        ln L_p  = distance_power ln d - ln(cos) / 2 + pixel_log
         sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
                       + density max(ln L_p - ln T, 0), ceiling)
 
@@ -127,13 +137,13 @@ def footprint_log(f, distance, cos_view=1.0):
     """ln L_p: the shortest wave drawn at `distance` (m), seen at `cos_view` (the shader's)."""
     d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
     c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), 0.01)
-    return f.distance_power * np.log(d / np.sqrt(c)) + f.pixel_log
+    return f.distance_power * np.log(d) - 0.5 * np.log(c) + f.pixel_log
 
 
 def undrawn_share(top_log, bottom_log, footprint_log_):
     """The share of a log-uniform slope spectrum between wavelengths e^bottom_log and e^top_log
-    whose waves are shorter than the footprint: not drawn (a layer's bump is scaled by the root
-    of the rest, so nothing counts both as normals and as roughness)."""
+    whose waves are shorter than the footprint: not drawn (the shader cuts a layer's noise
+    octaves the same way, so nothing counts both as normals and as roughness)."""
     return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
 
 

@@ -280,7 +280,7 @@ class SpectralField:
         sigma = np.sqrt(self._m0 * sum(self._shares[first:]))
         return shading.Detail(first=int(first), scale=1.0 / longest,
                               octaves=float(2 * count - 1), roughness=0.5,
-                              height=float(sigma / shading.NOISE_FAC_STD),
+                              height=float(sigma / shading.noise_fac_std(2 * count - 1, 0.5)),
                               time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * longest))))
 
     def ripple(self):

@@ -26,7 +26,7 @@ The water body is a volume of our own: absorption a per channel and emission a *
 that radiance after d metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14 and 17).
 
 Over 300 lines on purpose: one node tree, built top to bottom as the shading model reads
-(detail, Fresnel, glint, refraction, foam), plus the versioned material that carries it.
+(detail, filtering, Fresnel, reflection, refraction, foam), plus the versioned materials.
 """
 
 import math
@@ -122,10 +122,9 @@ def _build(group):
     distance = g.math("MAXIMUM", g.node("ShaderNodeCameraData").outputs["View Distance"], 1e-6)
     grazing = g.math("MAXIMUM", g.math("ABSOLUTE", g.vector("DOT_PRODUCT", geo["True Normal"],
                                                             geo["Incoming"])), 0.01)
-    footprint = g.math("MULTIPLY_ADD", i["Distance Power"],
-                       g.math("SUBTRACT", g.math("LOGARITHM", distance, E),
-                              g.math("MULTIPLY", g.math("LOGARITHM", grazing, E), 0.5)),
-                       i["Pixel Log"])
+    footprint = g.math("SUBTRACT", g.math("MULTIPLY_ADD", i["Distance Power"],
+                                          g.math("LOGARITHM", distance, E), i["Pixel Log"]),
+                       g.math("MULTIPLY", g.math("LOGARITHM", grazing, E), 0.5))
 
     def undrawn(top, bottom):  # shading.undrawn_share
         return g.math("DIVIDE", g.math("SUBTRACT", footprint, bottom),
@@ -133,13 +132,16 @@ def _build(group):
 
     def drawn_noise(vector, time, scale, octaves, roughness, height, top_log):
         """A fractal noise bump of `octaves` octaves past its first (wavelength e^top_log,
-        halving), keeping only those a pixel shows here: the noise's Detail is cut per pixel
-        (finer octaves would alias and flicker; their slopes are the roughness), its height
-        kept per octave (Blender normalises the fractal by its octaves' amplitude sum), and the
-        first octave fades over its last doubling of the footprint. (strength, distance,
-        height) for a Bump node."""
+        halving), keeping only the waves a pixel shows here: the noise's Detail is cut per
+        pixel (finer octaves would alias and flicker; their slopes are the roughness, counted
+        the same way: shading.undrawn_share), its height kept per octave (Blender normalises
+        the fractal by its octaves' amplitude sum), and the first octave's slope variance fades
+        with the footprint across its band. (strength, distance, height) for a Bump node."""
+        # Octave j holds the waves from top / 2^j down to top / 2^(j+1): whole while
+        # log2(top / L_p) >= j + 1.
         shown = g.math("DIVIDE", g.math("SUBTRACT", top_log, footprint), LN2)  # log2(top / L_p)
-        detail = g.math("MINIMUM", g.math("MAXIMUM", shown, 0.0), octaves)
+        detail = g.math("MINIMUM", g.math("MAXIMUM", g.math("SUBTRACT", shown, 1.0), 0.0),
+                        octaves)
         fac = g.node("ShaderNodeTexNoise", {"Vector": vector, "W": time, "Scale": scale,
                                             "Detail": detail, "Roughness": roughness},
                      noise_dimensions="4D").outputs["Fac"]
@@ -147,7 +149,7 @@ def _build(group):
         kept = g.math("DIVIDE", g.math("SUBTRACT", 1.0, g.math("POWER", r, g.math(
             "ADD", detail, 1.0))), g.math("MAXIMUM", g.math("SUBTRACT", 1.0, g.math(
                 "POWER", r, g.math("ADD", octaves, 1.0))), 1e-6))
-        strength = g.math("ADD", shown, 1.0, clamp=True)
+        strength = g.math("SQRT", g.math("MAXIMUM", g.math("MINIMUM", shown, 1.0), 0.0))
         return strength, g.math("MULTIPLY", height, kept), fac
 
     # Left-out octaves as bump detail: full where the vertices carry none of the first shader
@@ -240,8 +242,9 @@ def _build(group):
     grain_shown = g.math("ADD", g.math("DIVIDE", g.math(
         "SUBTRACT", -math.log(FOAM_GRAIN * FOAM_STREAK), footprint), LN2), 1.0, clamp=True)
     grain = g.mix(grain_shown, 1.0, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5))
-    whole = g.math("DIVIDE", g.math("SUBTRACT", footprint, math.log(WHITECAP)), LN2,
-                   clamp=True)
+    whole = g.math("MULTIPLY", g.math("DIVIDE", g.math(
+        "SUBTRACT", footprint, math.log(WHITECAP)), LN2, clamp=True), g.math(
+        "GREATER_THAN", i["Foam Coverage"], 0.0))  # whitecaps called for (not contact foam alone)
     foam = g.mix(whole, g.math("MULTIPLY", foam, grain, clamp=True), i["Foam Coverage"])
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
@@ -326,6 +329,20 @@ def body_material(absorption, tile_texels):
     out = g.node("ShaderNodeOutputMaterial")
     g.set(out.inputs["Volume"], godrays.outputs[0])
     return mat
+
+
+def own_body_material(mesh, absorption, tile_texels):
+    """The body material of one water body: its own (oceans' clarities and colours differ) and
+    of this VERSION (a file from an older version carries an older one), made from
+    `body_material` when it is not."""
+    mat = mesh.materials[0] if len(mesh.materials) else None
+    current = mat is not None and mat.get(TAG) == VERSION and mat.library is None
+    own = mat if current else body_material(absorption, tile_texels)  # ours, rebuilt if older
+    if own.users - int(own.use_fake_user) - int(own is mat) > 0:  # another body's too
+        own = own.copy()
+    if own is not mat:
+        mesh.materials[0] = own
+    return own
 
 
 def update_body(mat, absorption, water_colour):
@@ -440,9 +457,11 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
-    if (node.node_tree is not None and node.node_tree.get(TAG)
-            and node.node_tree.library is None):
-        set_effects(node.node_tree, effects_on, EFFECT_NODES)
+    tree = node.node_tree
+    if tree is not None and tree.get(TAG) and tree.library is None:
+        if tree.get(TAG) != VERSION:  # a file from an older version: ours, rebuilt
+            node.node_tree = tree = node_group()
+        set_effects(tree, effects_on, EFFECT_NODES)
     inputs = node.inputs
     values = {
         "Detail First Octave": detail.first, "Detail Scale": detail.scale,

@@ -23,7 +23,7 @@ from .state import RUNTIME
 
 COMPANIONS = {  # setting: (name suffix, effects that show it)
     "water_body": (" Water Body", ("underwater", "refraction")),
-    # Light passes the water: the ocean casts no shadow of its own while this one is shown.
+    # Light passes the water: the ocean casts no shadow of its own, this one does (caustics).
     "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
     # The ocean is left out of sphere probes' captures while this one is shown.
     "reflection_probe": (" Reflection", ("local_reflections",)),
@@ -219,18 +219,17 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
     ocean is not `hidden` (in renders, in the viewport): the water body centred under the
     camera at the water level and `volume_reach` wide (as far as EEVEE draws volumes), the
     reflection probe at the camera mirrored in the water, reaching as far as the camera sees."""
+    # The water never shadows itself: its waves' shadowing of the sun's glint is the
+    # reflection's own (the microfacets' masking); a shadow map of the waves on the waves draws
+    # blocks into the glitter path. Only the caster shadows what is below.
+    assign(obj, visible_shadow=False)
     for prop, (_, needed_by) in COMPANIONS.items():
         companion = getattr(obj.projgrid, prop)
         if companion is None or not owns(companion):
             continue
         hide = not any(on[e] for e in needed_by)
         assign(companion, hide_render=hide or hidden[0], hide_viewport=hide or hidden[1])
-        if prop == "shadow_caster":
-            # The water never shadows itself: its waves' shadowing of the sun's glint is the
-            # reflection's own (the microfacets' masking); a shadow map of the waves on the
-            # waves draws blocks into the glitter path. Only the caster shadows what is below.
-            assign(obj, visible_shadow=False)
-        elif prop == "reflection_probe":
+        if prop == "reflection_probe":
             assign(obj, hide_probe_sphere=not hide)
         if hide:
             continue

@@ -109,6 +109,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                                   settings)
         key = (render, res, camera_key, world.tobytes(), t,
                tuple(getattr(settings, p) for p in scene.SETTINGS), scene.look(settings),
+               tuple(shot.render_size(the_scene)),  # the pixels' footprint (shading.Filtering)
                surface.data.session_uid,
                facts.key())
         if key == state.key:
@@ -181,6 +182,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     body_material = (water.material_of(body.data) if body is not None and scene.owns(body)
                      else None)
     if body_material is not None:
+        body_material = water.own_body_material(body.data, absorption,
+                                                effects.GODRAY_TILE_TEXELS)
         water.update_body(body_material, absorption, water_colour)
         if godrays is not None:
             water.update_godrays(body_material, *godrays)

@@ -219,3 +219,30 @@ def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
     assert "My Water" in panel.look_note(sea)
     assert not mine.get("projgrid_ocean")
     assert mine.node_tree is None or "Projected Grid Water" not in mine.node_tree.nodes
+
+
+def test_two_oceans_keep_their_own_clarity(sea, extension):
+    """Each water body has its own body material: one ocean's clarity is not another's."""
+    other = add_ocean()
+    other.location.x = 5.0
+    bpy.context.scene.frame_set(3)
+    sea.projgrid.clarity, other.projgrid.clarity = 4.0, 40.0
+    bpy.context.scene.frame_set(4)
+    densities = [o.projgrid.water_body.data.materials[0].node_tree.nodes["Absorption"]
+                 .inputs["Density"].default_value for o in (sea, other)]
+    effects = extension.projgrid_addon.effects
+    assert densities == pytest.approx([max(effects.absorption(4.0)),
+                                       max(effects.absorption(40.0))], rel=1e-5)
+
+
+def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
+    """A file from an older version carries our group without today's inputs: the next frame
+    rebuilds it (ours), so the filtering's inputs are written, not skipped."""
+    water = extension.shaders.water
+    group = sea.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
+    group["projgrid_ocean"] = water.VERSION - 1
+    group.interface.clear()
+    bpy.context.scene.frame_set(5)
+    group = sea.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
+    assert group["projgrid_ocean"] == water.VERSION
+    assert group_input(sea, "Slope Ceiling").default_value > 0.0

@@ -264,8 +264,10 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
         for cos in (1.0, 0.05):
             lp = float(np.exp(shading.footprint_log(f, d, cos)))
             drawn = spectrum_slopes(state, max(lp, top))
-            shown = 1.0 - shading.undrawn_share(f.ripple_top_log, f.shortest_log, np.log(lp))
-            drawn += f.ripple_gain**2 * ripple * shown
+            # the shader keeps the ripple noise's octaves (each an octave band of equal
+            # slopes, from 25 cm down) whose band lies above the footprint
+            octaves = np.clip(np.log2(top / lp), 0.0, spectral_field.RIPPLE_OCTAVES)
+            drawn += f.ripple_gain**2 * ripple * octaves / spectral_field.RIPPLE_OCTAVES
             rough = float(shading.unresolved_slope_variance(f, d, cos))
             assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lp)
     assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn

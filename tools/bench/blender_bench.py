@@ -315,8 +315,7 @@ def _calm(scene):
 
 
 def _set_modes(scene, variant):
-    """The effects of `variant` on a light breeze: a bare ocean's AUTO then calls for the
-    glint alone."""
+    """The effects of `variant` on a light breeze: a bare ocean's AUTO then calls for none."""
     modes, sun = EFFECT_VARIANTS[variant]
     ocean = _ocean(_calm(scene))
     for effect in EFFECTS:
@@ -328,9 +327,9 @@ def _set_modes(scene, variant):
 
 
 def effect_cost(n=257, repeats=15):
-    """Per-frame rebuild time of the same ocean with its effects off, at AUTO (a bare ocean: only
-    the sun glint is called for; without a sun nothing), and with each effect on alone,
-    measured interleaved."""
+    """Per-frame rebuild time of the same ocean with its effects off, at AUTO (a bare ocean:
+    nothing is called for, with or without a sun), and with each effect on alone, measured
+    interleaved."""
     scenes = {}
     for name in EFFECT_VARIANTS:
         scenes[name] = projected_scene(n)

@@ -431,8 +431,8 @@ def _effects(report):
     md += ["## 7. Effects: what each costs", "",
            "The same 257² ocean, a light breeze (2.5 m/s: no whitecaps called for), per frame "
            "(frame_set, interleaved) with every effect off, at "
-           "AUTO (the bare ocean: a sun above the horizon calls for the glint, nothing "
-           "else; without the sun nothing at all), and with each effect forced on alone; "
+           "AUTO (the bare ocean: nothing called for, with or without a sun; the sun's glint "
+           "is the water's own reflection), and with each effect forced on alone; "
            "and the default shot's EEVEE render time (320×180, 4 samples, each variant's "
            "shader compiled first; the two no-sun variants, which share a shader, rendered "
            "alternately). The default shot has no other objects, so contact foam and "
