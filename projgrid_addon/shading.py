@@ -59,6 +59,9 @@ def sun_elevation(direction):
 # A wave is drawn while it spans this many pixels (Nyquist's two samples a wave; EEVEE's
 # antialiasing samples within the pixel); the slopes of shorter ones are roughness.
 PIXELS = 2.0
+# The most a pixel's footprint stretches at grazing angles (as the shader's): it stretches
+# along the view only, so an isotropic stretch by 1 / sqrt(cos) overstates it there.
+GRAZING = 3.0
 # The sea's roughness length (m): the wind at 12.5 m, where Cox and Munk measured it, from the
 # wind at 10 m by the logarithmic profile U(z) ~ ln(z / Z0).
 Z0 = 2e-4
@@ -87,7 +90,8 @@ class Slopes:
 @dataclass(frozen=True)
 class Filtering:
     """The shader's per-pixel slope variance of the waves too short to draw (Bruneton 2010).
-    With L_p the shortest wave drawn, PIXELS pixels' footprint at distance d seen at cos:
+    With L_p the shortest wave drawn, PIXELS pixels' footprint at distance d, the view at cos
+    to the mean sea plane (at least cos_floor):
 
         ln L_p  = distance_power ln d - ln(cos) / 2 + pixel_log
         sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
@@ -102,6 +106,7 @@ class Filtering:
     distance_power: float
     floor: float
     ripple: float
+    cos_floor: float  # 1 / GRAZING^2
     ripple_gain: float
     density: float
     shortest_log: float
@@ -130,13 +135,14 @@ def filtering(proj, width, slopes, wind_speed):
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),
                      ripple_top_log=float(np.log(slopes.ripple_top)),
-                     ceiling=slopes.total + extra)
+                     ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING**2)
 
 
 def footprint_log(f, distance, cos_view=1.0):
-    """ln L_p: the shortest wave drawn at `distance` (m), seen at `cos_view` (the shader's)."""
+    """ln L_p: the shortest wave drawn at `distance` (m), the view at `cos_view` to the mean
+    sea plane (the shader's)."""
     d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
-    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), 0.01)
+    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
     return f.distance_power * np.log(d) - 0.5 * np.log(c) + f.pixel_log
 
 

@@ -48,7 +48,7 @@ VERSION = 10  # stored in the TAG property; a group or material of another versi
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
 FOAM_STREAK = 4.0  # and this many times more across it
-WHITECAP = 2.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
+WHITECAP = 8.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
@@ -79,6 +79,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
+    ("Cos Floor", "NodeSocketFloat", 0.1),
     ("Distance Power", "NodeSocketFloat", 1.0),
     ("Slope Floor", "NodeSocketFloat", 0.0),
     ("Ripple Slopes", "NodeSocketFloat", 0.0),
@@ -120,8 +121,10 @@ def _build(group):
     # The shortest wave a pixel shows here (shading.Filtering): PIXELS pixels' footprint at the
     # view distance, stretched where the water is seen at a grazing angle.
     distance = g.math("MAXIMUM", g.node("ShaderNodeCameraData").outputs["View Distance"], 1e-6)
-    grazing = g.math("MAXIMUM", g.math("ABSOLUTE", g.vector("DOT_PRODUCT", geo["True Normal"],
-                                                            geo["Incoming"])), 0.01)
+    # Against the mean sea plane, not the waves' faces (those facing the camera would stay
+    # sharp and those facing away go milky), and at most shading.GRAZING times.
+    grazing = g.math("MAXIMUM", g.math("ABSOLUTE", g.node(
+        "ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]), i["Cos Floor"])
     footprint = g.math("SUBTRACT", g.math("MULTIPLY_ADD", i["Distance Power"],
                                           g.math("LOGARITHM", distance, E), i["Pixel Log"]),
                        g.math("MULTIPLY", g.math("LOGARITHM", grazing, E), 0.5))
@@ -470,6 +473,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Ripple Scale": ripple.scale, "Ripple Octaves": ripple.octaves,
         "Ripple Height": ripple.height * filtering.ripple_gain,
         "Pixel Log": filtering.pixel_log, "Distance Power": filtering.distance_power,
+        "Cos Floor": filtering.cos_floor,
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
