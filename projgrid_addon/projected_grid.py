@@ -249,13 +249,13 @@ def winding(loop, point):
     return int(np.count_nonzero(up)) - int(np.count_nonzero(down))
 
 
-def _windings(camera, loop):
-    """How often the closed loop of world points (n, 3) winds around each witness ray: seen
+def _windings(camera, loop, near, far):
+    """How often the closed loop of world points (n, 3) winds around each witness ray (its
+    `near` and `far` ends, camera.rays of WITNESSES): seen
     along the rays (orthographic), or, from the eye, on the sphere of directions (a sea rising
     over a low camera brings the border behind it, where a screen has no image), mapped
     stereographically from each ray's opposite direction, the border's segments subdivided so
     their arcs stay close to chords."""
-    near, far = camera.rays(WITNESSES)
     if camera.orthographic:
         c = camera.clip(loop)
         return [winding(c[:, :2] / c[:, 3:], point) for point in WITNESSES]
@@ -302,7 +302,8 @@ def border_outside(camera, result, level):
     crossing = (((near[:, 2] > high) & (far[:, 2] < low))
                 | ((near[:, 2] < low) & (far[:, 2] > high)))
     loop = np.concatenate(rows).astype(np.float64) + result.origin
-    return all(n != 0 for n, c in zip(_windings(camera, loop), crossing, strict=True) if c)
+    return all(n != 0 for n, c in zip(_windings(camera, loop, near, far), crossing, strict=True)
+               if c)
 
 
 def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, aim, extent):
