@@ -36,6 +36,13 @@ FOAM_MIN_COVERAGE = 5e-4
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
 NO_FOAM = 1e6
 FOAM_PERIOD = 1.0  # seconds between the foam's calibrations (foam_thresholds)
+FOAM_SOFTNESS = 1.0  # a whitecap's ramp at full detail, in the cue's standard deviations
+# A linear ramp this many standard deviations wide has the slope of the normal distribution's
+# CDF at its middle (sqrt(2 pi)): the share of a vertex that the waves it leaves out foam.
+UNRESOLVED_RAMP = 2.5
+# m: waves longer than this make whitecaps a vertex should place; the foam of shorter ones is
+# the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover).
+WHITECAP_WAVE = 8.0
 # Absorption a (1/m) per RGB channel of clear coastal sea water (Fleck Eq. 17): red light is
 # gone after a few metres, blue travels tens.
 ABSORPTION = (0.45, 0.09, 0.06)
@@ -205,11 +212,14 @@ def foam_thresholds(source, time, coverage, samples=16384):
     (`foam_levels`): on a fixed pattern of sea points, the mean foam is `coverage` at the
     band limit they are evaluated with, so a vertex's foam covers the wind's share of the sea
     whatever detail its geometry holds (Jensen and Golias put foam where the surface is high
-    or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, spreads):
-    a spread is the cue's standard deviation there. Calibrated every FOAM_PERIOD seconds and
-    interpolated between (4 s apart, a rare foam's share at a light wind drifted by 1.7 x
-    between them; each calibration costs about 0.2 s), so a frame is a function of the
-    settings and its time alone: a farm splitting frames renders the same foam."""
+    or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, widths):
+    each the width of the ramp the foam rises over (`whitecaps`).
+
+    The sources' statistics drift with time (the noise's octaves move through their lattices;
+    the spectrum's tiles hold finitely many waves, whose rare folds come and go: one threshold
+    for all times let the cover drift between 0.55 and 1.6 times the coverage). So it is
+    calibrated every FOAM_PERIOD seconds and interpolated between, and a frame is a function of
+    the settings and its time alone: a farm splitting frames renders the same foam."""
     coverage = min(max(float(coverage), 1e-6), 1.0)
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
     a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + FOAM_PERIOD))
@@ -224,25 +234,36 @@ def _calibration(source, time, coverage, samples):
         x, y = sea_sample(source.foam_span, samples)
         xy = np.stack([x, y])
         levels = np.asarray(source.foam_levels(), dtype=np.float64)
-        thresholds, spreads = [], []
-        for level in levels:
-            cue = source.foam_cue(xy, time, np.full(x.shape, level, np.float32))
-            spread = float(cue.std())
+        cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32))
+                for level in levels]
+        spreads = np.array([float(cue.std()) for cue in cues])
+        placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
+        widths = _ramp_widths(spreads, float(np.interp(placed, levels, spreads)))
+        thresholds = []
+        for cue, spread, width in zip(cues, spreads, widths, strict=True):
             if spread <= 1e-9 * (1.0 + float(np.abs(cue).max())):  # no wave: no foam
                 thresholds.append(float(cue.max()) + NO_FOAM)
-                spreads.append(1.0)
             else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
-                thresholds.append(_covering(cue, coverage, spread))
-                spreads.append(spread)
+                thresholds.append(_covering(cue, coverage, width))
         if len(cache) > 8:
             cache.clear()
-        cache[key] = (levels, np.array(thresholds), np.array(spreads))
+        cache[key] = (levels, np.array(thresholds), widths)
     return cache[key]
 
 
-def _covering(cue, coverage, spread, softness=0.25):
+def _ramp_widths(spreads, placed):
+    """The width of each level's foam ramp: FOAM_SOFTNESS of the cue's spread there, widened
+    by the spread of the waves longer than WHITECAP_WAVE the level leaves out (`placed`, the
+    cue's spread with them whole, less the level's own, the two independent), so a vertex
+    holding only the long waves gets the share of its area the shorter ones would foam,
+    rising smoothly on the long waves' crests, not a whole whitecap along each long crest."""
+    unresolved = np.sqrt(np.maximum(placed * placed - spreads * spreads, 0.0))
+    widths = np.hypot(FOAM_SOFTNESS * spreads, UNRESOLVED_RAMP * unresolved)
+    return np.where(widths > 0.0, widths, 1.0)
+
+
+def _covering(cue, coverage, width):
     """The threshold at which the mean of `whitecaps` over the sample `cue` is `coverage`."""
-    width = softness * spread
     lo, hi = float(cue.min()) - width, float(cue.max()) + width
     for _ in range(40):  # bisection: the mean foam falls as the threshold rises
         mid = 0.5 * (lo + hi)
@@ -253,19 +274,20 @@ def _covering(cue, coverage, spread, softness=0.25):
     return 0.5 * (lo + hi)
 
 
-def whitecaps(cue, lod, calibration, softness=0.25):  # softness as in _covering
-    """Per-vertex foam in [0, 1] from the cue at the vertices and `foam_thresholds`: rising
-    from 0 to 1 across the vertex's threshold over `softness` of the cue's spread, centred on
-    it, so the mean foam over the sea is the coverage. `lod` None: every band, whole."""
-    levels, thresholds, spreads = calibration
+def whitecaps(cue, lod, calibration):
+    """Per-vertex foam in [0, 1], the share of the sea there whitecaps cover, from the cue at
+    the vertices and `foam_thresholds`: rising from 0 to 1 across the vertex's threshold over
+    the ramp's width, centred on it, so the mean foam over the sea is the coverage. `lod`
+    None: every band, whole."""
+    levels, thresholds, widths = calibration
     cue = np.asarray(cue, dtype=np.float32).ravel()
     if lod is None:
-        t, spread = thresholds[-1], spreads[-1]
+        t, width = thresholds[-1], widths[-1]
     else:
         lod = np.asarray(lod, dtype=np.float64).ravel()
-        t, spread = np.interp(lod, levels, thresholds), np.interp(lod, levels, spreads)
+        t, width = np.interp(lod, levels, thresholds), np.interp(lod, levels, widths)
     foam = np.subtract(cue, t, dtype=np.float32)
-    foam /= np.asarray(softness * spread, dtype=np.float32)
+    foam /= np.asarray(width, dtype=np.float32)
     foam += np.float32(0.5)
     return np.clip(foam, 0.0, 1.0, out=foam)
 
@@ -444,15 +466,17 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
     `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum. `result` is the frame's
-    GridResult: the cue is taken at its grid points before any choppy displacement."""
+    GridResult: the cue is taken at its grid points before any choppy displacement, and from
+    the grid itself where the source asks for it (the spectrum's folding)."""
     foam = None
     surface = result.surface
     if crests:
         coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
         calibration = foam_thresholds(source, time, coverage)
-        xy = result.base if result.base is not None else np.stack(surface[:2])
+        moved = np.stack(surface[:2])
+        xy = result.base if result.base is not None else moved
         lod = result.lod.reshape(xy.shape[1:])
-        foam = whitecaps(source.foam_cue(xy, time, lod), lod, calibration)
+        foam = whitecaps(source.foam_cue(xy, time, lod, grid=moved), lod, calibration)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bound))

@@ -200,12 +200,17 @@ class HeightField:
         one tile of the first octave, 32 wavelengths."""
         return 32.0 * self.wave_scale
 
+    def whole_level(self, wavelength):
+        """The band limit from which waves of `wavelength` (m) are whole in the geometry."""
+        return float(np.log2(self.wave_scale / wavelength) + 1.0)
+
     def foam_levels(self):
         """The band limits at which the foam is calibrated: octave i is whole from lod i + 1."""
         return np.arange(self.octaves + 1, dtype=np.float64)
 
-    def foam_cue(self, xy, t, lod=None):
-        """Where whitecaps form on the noise: the highest crests (Jensen and Golias)."""
+    def foam_cue(self, xy, t, lod=None, grid=None):
+        """Where whitecaps form on the noise: the highest crests (Jensen and Golias). `grid`,
+        the displaced grid the spectrum's cue is taken from, is not needed."""
         return self.heights_xy(xy, t, lod)
 
     def shader_octaves(self, lod):

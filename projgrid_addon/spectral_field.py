@@ -19,7 +19,8 @@ of E (spectrum.wavenumber_spectrum). The amplitudes are the spectrum's own and o
 are random, so every seed has the spectrum's significant height. The choppy displacement
 moves points toward the crests, D(x) = sum of i lambda (k / |k|) h e^(i k.x) (Tessendorf §4.4,
 with the sign that sharpens the crests), and the surface folds where its Jacobian,
-(1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue.
+(1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue. The Jacobian is
+taken as the mesh shows it, by differences between neighbouring vertices (`jacobian`).
 
 A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the
 seed alone, so frame N is the same computed alone or after 1..N-1, on any machine.
@@ -34,6 +35,7 @@ import numpy as np
 
 from . import shading, spectrum
 from .band_limit import octave_weights, row_jobs
+from .projected_grid import grid_derivative
 from .scratch import CHUNK, scratch
 from .tiles import Lookup, periodic_patches
 from .validation import finite, integer, non_negative
@@ -47,13 +49,13 @@ SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 9
 # times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
 TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
 RIPPLE_OCTAVES = 3  # the spectrum's tail below the last band, as shading detail: 25 cm to 3 cm
-FOAM_STEPS = 3  # foam calibrations over a band's fade-in (foam_levels)
+FOAM_STEPS = 2  # foam calibrations over a band's fade-in (foam_levels)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
 BIG = 2  # how many times more texels (and metres) a band holding more than that has
-# Fields a tile can give: height, displacement x and y, and the displacement's derivatives.
-FIELDS = ("h", "dx", "dy", "dxx", "dyy", "dxy")
+# Fields a tile can give: the height and the choppy displacement along x and y.
+FIELDS = ("h", "dx", "dy")
 GEOMETRY = (0, 1, 2)
-FOLDING = (3, 4, 5)
+SIDEWAYS = (1, 2)
 
 
 def bands():
@@ -144,41 +146,41 @@ class Cascade:
         self.empty = not np.any(energy > 0.0)
         self._factors = {}
 
-    def _factor(self, a, b, lam, fold):
+    def _factor(self, a, b, lam):
         """The multiplier taking h(k) to the spectrum of field a plus i times field b's (b None:
         field a alone), complex64, made once per pair and choppiness."""
-        key = (a, b, lam, fold)
+        key = (a, b, lam)
         hit = self._factors.get(key)
         if hit is None:
             of = {0: lambda: np.ones_like(self.kx), 1: lambda: 1j * lam * self.ux,
-                  2: lambda: 1j * lam * self.uy, 3: lambda: -fold * self.kx * self.ux,
-                  4: lambda: -fold * self.ky * self.uy, 5: lambda: -fold * self.kx * self.uy}
+                  2: lambda: 1j * lam * self.uy}
             hit = of[a]() + (0.0 if b is None else 1j * of[b]())
             hit = self._factors[key] = np.asarray(hit, np.complex64)
         return hit
 
-    def fields(self, t, choppiness, which, fold):
+    def fields(self, t, lam, which):
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
-        t, {index: texture}, and the largest |h| and |(dx, dy)| of the samples (0 where those
-        fields were not asked for). The folding fields are those of choppiness `fold`."""
-        angle = (self.omega * t) % (2.0 * np.pi)  # in float64: t may be large
+        t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
+        |(dx, dy)| of the samples (0 where those fields were not asked for)."""
+        turns = self.omega * (t / (2.0 * np.pi))  # in float64: t may be large
+        turns -= np.floor(turns)
+        angle = (2.0 * np.pi) * turns.astype(np.float32)  # float32 sines are many times faster
         phase = np.empty(angle.shape, np.complex64)
         phase.real = np.cos(angle)
         phase.imag = -np.sin(angle)
         h = self.h0 * phase
         h += self.h0_neg_conj * np.conj(phase)
-        lam = choppiness
         wanted = sorted(which)
         real = {}
         for i in range(0, len(wanted), 2):  # two real fields per complex transform
             a = wanted[i]
             b = wanted[i + 1] if i + 1 < len(wanted) else None
-            both = np.fft.ifft2(h * self._factor(a, b, lam, fold), norm="forward")
+            both = np.fft.ifft2(h * self._factor(a, b, lam), norm="forward")
             real[a] = both.real
             if b is not None:
                 real[b] = both.imag
         bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
-        side = float(np.hypot(real[1], real[2]).max()) if lam > 0.0 and 1 in real else 0.0
+        side = float(np.hypot(real[1], real[2]).max()) if 1 in real and 2 in real else 0.0
         return {f: periodic_patches(real[f]) for f in which}, bound, side
 
 
@@ -218,8 +220,9 @@ class SpectralField:
         # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.
         self.wave_scale = 1.0
         self.octaves = BANDS
-        # The folding the foam looks for: the displayed choppiness, or Tessendorf's lambda = 1
-        # on a sea drawn without it (its crests still break).
+        # The displacement the tiles hold and the foam looks for: the displayed choppiness, or
+        # Tessendorf's lambda = 1 on a sea drawn without it (its crests still break), which
+        # `displacement` then does not apply.
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
         self._prepared = None
         self._shares = band_shares(state)
@@ -245,6 +248,11 @@ class SpectralField:
     def longest_wave(self):
         return max(c.size for c in self.cascades) / 2.0 if self.cascades else 0.0
 
+    def whole_level(self, wavelength):
+        """The band limit from which waves of `wavelength` (m) are whole in the geometry (as a
+        band's shortest: its level + 1)."""
+        return float(np.log2(self.wave_scale / wavelength) + 1.5)
+
     def foam_levels(self):
         """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's
         fade-in (band_limit.octave_weights: from its level to its level + 1), where the cue's
@@ -253,10 +261,10 @@ class SpectralField:
         levels = sorted({float(level + f) for level in self.levels for f in steps})
         return levels or [0.0]
 
-    def foam_cue(self, xy, t, lod=None):
+    def foam_cue(self, xy, t, lod=None, grid=None):
         """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
-        lowest (Jensen and Golias)."""
-        return -self.jacobian(xy, t, lod)
+        lowest (Jensen and Golias). See `jacobian`."""
+        return -self.jacobian(xy, t, lod, grid)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -323,18 +331,20 @@ class SpectralField:
         return self.wave_scale / 2.0**octave
 
     def prepare(self, t, fields=GEOMETRY):
-        """The tiles' fields at time t: made once per time, each field when first asked for."""
+        """The tiles' fields at time t: made once per time, each field when first asked for
+        (without choppiness, the displacement only when the foam asks for it)."""
         t = finite("time", t)
         if self._prepared is None or self._prepared[0] != t:
-            made = [c.fields(t, self.choppiness, GEOMETRY, self.fold) for c in self.cascades]
+            first = GEOMETRY if self.choppiness > 0.0 else (0,)
+            made = [c.fields(t, self.fold, first) for c in self.cascades]
             self.textures = [m[0] for m in made]
             self._bound = sum(m[1] for m in made)
             self._side = sum(m[2] for m in made)
-            self._prepared = (t, set(GEOMETRY))
+            self._prepared = (t, set(first))
         missing = set(fields) - self._prepared[1]
         if missing:
             for cascade, textures in zip(self.cascades, self.textures, strict=True):
-                textures.update(cascade.fields(t, self.choppiness, missing, self.fold)[0])
+                textures.update(cascade.fields(t, self.fold, missing)[0])
             self._prepared[1].update(missing)
         return self
 
@@ -370,13 +380,8 @@ class SpectralField:
             if job is None:
                 continue
             rows, weighted = job
-            c, s = cascade.turn
-            turned = scratch("turned", xy[:, rows].shape, np.float64)  # into the tile's frame
-            np.multiply(xy[0, rows], c, out=turned[0])
-            turned[0] += s * xy[1, rows]
-            np.multiply(xy[1, rows], c, out=turned[1])
-            turned[1] -= s * xy[0, rows]
-            where = Lookup(cascade.texels, turned, cascade.texels / cascade.size)
+            where = Lookup(cascade.texels, xy[:, rows], cascade.texels / cascade.size,
+                           turn=cascade.turn)
             weight = None
             if weighted:
                 weight = octave_weights(lod[rows], level,
@@ -399,7 +404,42 @@ class SpectralField:
         x = np.asarray(x, dtype=np.float64)
         return self.sample(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod, (0,))[0]
 
-    def jacobian(self, xy, t, lod=None):
-        """The choppy surface's Jacobian at world points xy (2, ...): 1 flat, < 0 folded."""
-        dxx, dyy, dxy = self.sample(xy, t, lod, FOLDING)
-        return (1.0 + dxx) * (1.0 + dyy) - dxy * dxy
+    def jacobian(self, xy, t, lod=None, grid=None):
+        """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh of it shows it: by
+        differences between neighbouring vertices, which see the waves the band limit keeps,
+        each wave's slope lessened as the differences over its vertices lessen it.
+
+        `grid` given: xy (2, rows, columns) are a frame's grid points on the sea and `grid` the
+        same points displaced (`displacement`; without choppiness, xy itself), and the Jacobian
+        is that of the map from one to the other between neighbours (central differences,
+        one-sided on the border). Otherwise xy (2, ...) are points apart, and the differences
+        are central over the vertex spacing their `lod` stands for (band_limit.lod_for_spacing;
+        `lod` None: the spacing at which every band is whole), along x and along y."""
+        xy = np.asarray(xy, dtype=np.float64)
+        if grid is not None:
+            moved = np.asarray(grid, dtype=np.float64)
+            if self.choppiness == 0.0:
+                moved = xy + self.sample(xy, t, lod, SIDEWAYS)
+            return _grid_jacobian(xy, moved)
+        top = max(self.levels, default=0.0) + 1.0
+        level = np.full(xy.shape[1:], top) if lod is None else np.asarray(lod, np.float64)
+        step = self.wave_scale * 2.0 ** -level / 2.0  # lod = log2(wave_scale / (2 spacing))
+        points = np.repeat(xy[:, None], 4, axis=1)  # (2, 4, ...): +x, -x, +y, -y
+        points[0, 0] += step
+        points[0, 1] -= step
+        points[1, 2] += step
+        points[1, 3] -= step
+        lods = np.broadcast_to(level.astype(np.float32), points.shape[1:])
+        dx, dy = self.sample(points, t, None if lod is None else lods, SIDEWAYS)
+        span = 2.0 * step
+        ddx_x, ddy_x = (dx[0] - dx[1]) / span, (dy[0] - dy[1]) / span
+        ddx_y, ddy_y = (dx[2] - dx[3]) / span, (dy[2] - dy[3]) / span
+        return (1.0 + ddx_x) * (1.0 + ddy_y) - ddx_y * ddy_x
+
+
+def _grid_jacobian(base, moved):
+    """det(d moved / d(i, j)) / det(d base / d(i, j)) over a grid (2, rows, columns)."""
+    d = grid_derivative
+    area = d(base[0], 1) * d(base[1], 0) - d(base[0], 0) * d(base[1], 1)
+    turned = d(moved[0], 1) * d(moved[1], 0) - d(moved[0], 0) * d(moved[1], 1)
+    return np.divide(turned, area, out=np.ones_like(area), where=area != 0.0)

@@ -3,7 +3,7 @@
 Each texel stores the four coefficients of its bilinear patch, v = a + b fx + fy (c + d fx), as
 four float32 in one complex128 element, so a lookup is a single gather. Points are found once
 (`Lookup`) and any number of textures of the same size sampled there: heights, displacements,
-their derivatives. A texture is `size` texels across, `size` a power of two.
+their gradients. A texture is `size` texels across, `size` a power of two.
 """
 
 import numpy as np
@@ -36,14 +36,22 @@ def periodic_patches(tile):
 
 
 class Lookup:
-    """Where points xy (2, ...), less `shift`, fall in a periodic texture `size` texels across
-    at `scale` texels per unit: each point's texel and its fractions. Its arrays are scratch
-    arrays (see scratch.py) named by `tag`, valid until the next Lookup of that tag."""
+    """Where points xy (2, ...), less `shift` or turned by `turn` (cos, sin: into the frame of a
+    texture turned by that angle), fall in a periodic texture `size` texels across at `scale`
+    texels per unit: each point's texel and its fractions. Its arrays are scratch arrays (see
+    scratch.py) named by `tag`, valid until the next Lookup of that tag."""
 
-    def __init__(self, size, xy, scale, tag="", shift=(0.0, 0.0)):
+    def __init__(self, size, xy, scale, tag="", shift=(0.0, 0.0), turn=None):
         self.shape = shape = xy.shape[1:]
         s = scratch("s" + tag, xy.shape, np.float64)
-        if shift[0] or shift[1]:
+        if turn is not None:
+            c, sn = turn[0] * scale, turn[1] * scale
+            across = scratch("across" + tag, shape, np.float64)
+            np.multiply(xy[0], c, out=s[0])
+            s[0] += np.multiply(xy[1], sn, out=across)
+            np.multiply(xy[1], c, out=s[1])
+            s[1] -= np.multiply(xy[0], sn, out=across)
+        elif shift[0] or shift[1]:
             np.subtract(xy, np.reshape(shift, (2,) + (1,) * len(shape)), out=s)
             s *= scale
         else:

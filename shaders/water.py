@@ -44,9 +44,13 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 10  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 11  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
+FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
+# How soft a bubble's edge is, in the noise's ranks, per unit of the share: the ramp narrows
+# with the share, so no foam is drawn where the share is nought and its mean stays the share.
+FOAM_EDGE = 0.5
 FOAM_STREAK = 4.0  # and this many times more across it
 WHITECAP = 8.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
@@ -77,6 +81,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Time", "NodeSocketFloat", 0.0),
     ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
     ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
+    ("Foam Grain Spread", "NodeSocketFloat", 0.057),  # the grain noise's standard deviation
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
     ("Cos Floor", "NodeSocketFloat", 0.1),
@@ -223,11 +228,13 @@ def _build(group):
                                                 2: window.outputs[0]})
     result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
                                             2: reflection.outputs[0]})
-    # Foam (Jensen and Golias): a rough white cover where the crests carry it, broken into
-    # patches by a noise under a metre across whose factor averages 1 (the covered share stays
-    # the calibrated one), so a whitecap is not the round blob the vertices interpolate; the
-    # noise is FOAM_STREAK times finer across the wind than along it: the wind draws foam out
-    # into streaks.
+    # Foam (Jensen and Golias): a rough white cover where the crests carry it. The per-vertex
+    # foam f is a share to cover, not an opacity: a point is foam where the rank of a grain
+    # noise (its Fac through the logistic approximation of the normal distribution's CDF, so
+    # nearly uniform in [0, 1]) is above 1 - f. So a whitecap is a solid core whose edge breaks
+    # into bubbles and streaks, not the round blob the vertices interpolate, and the covered
+    # share stays the calibrated one. The noise is FOAM_STREAK times finer across the wind than
+    # along it: the wind draws foam out into streaks.
     foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
     wind = g.node("ShaderNodeCombineXYZ", {"X": g.math("COSINE", i["Wind Direction"]),
                                            "Y": g.math("SINE", i["Wind Direction"])}).outputs[0]
@@ -238,17 +245,23 @@ def _build(group):
         "X": g.vector("DOT_PRODUCT", geo["Position"], wind),
         "Y": g.vector("DOT_PRODUCT", geo["Position"], across)}).outputs[0]
     grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": i["Detail Time"],
-                                          "Scale": FOAM_GRAIN, "Detail": 4.0,
-                                          "Roughness": 0.65}, noise_dimensions="4D")
-    # Where the pixel outgrows the grain's streaks, its mean (1); where it outgrows a whitecap,
-    # the sea's mean cover (per-vertex foam on a grid that moves with the camera would pop).
+                                          "Scale": FOAM_GRAIN, "Detail": FOAM_DETAIL,
+                                          "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D")
+    z = g.math("DIVIDE", g.math("SUBTRACT", grain.outputs["Fac"], 0.5), i["Foam Grain Spread"])
+    rank = g.math("DIVIDE", 1.0, g.math("ADD", 1.0, g.math("POWER", E, g.math(
+        "MULTIPLY", z, -1.702))))
+    bubbles = g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math("SUBTRACT", rank, 1.0), foam),
+                                   g.math("MULTIPLY_ADD", foam, FOAM_EDGE, 1e-4)), 0.5,
+                     clamp=True)
+    # Where the pixel outgrows the grain's streaks, the share itself; where it outgrows a
+    # whitecap, the sea's mean cover (per-vertex foam on a grid that moves with the camera
+    # would pop).
     grain_shown = g.math("ADD", g.math("DIVIDE", g.math(
         "SUBTRACT", -math.log(FOAM_GRAIN * FOAM_STREAK), footprint), LN2), 1.0, clamp=True)
-    grain = g.mix(grain_shown, 1.0, g.math("MULTIPLY_ADD", grain.outputs["Fac"], 3.0, -0.5))
     whole = g.math("MULTIPLY", g.math("DIVIDE", g.math(
         "SUBTRACT", footprint, math.log(WHITECAP)), LN2, clamp=True), g.math(
         "GREATER_THAN", i["Foam Coverage"], 0.0))  # whitecaps called for (not contact foam alone)
-    foam = g.mix(whole, g.math("MULTIPLY", foam, grain, clamp=True), i["Foam Coverage"])
+    foam = g.mix(whole, g.mix(grain_shown, foam, bubbles), i["Foam Coverage"])
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {
@@ -449,14 +462,15 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0):
+           foam_coverage=0.0, foam_grain_spread=0.057):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
     included), so an animation writes nothing per frame; the filtering of the waves too short
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
     (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
-    where a pixel outgrows a whitecap."""
+    where a pixel outgrows a whitecap; the standard deviation of the foam's grain noise
+    (FOAM_DETAIL, FOAM_ROUGHNESS), which ranks its points."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -477,7 +491,8 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
-        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
+        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage,
+        "Foam Grain Spread": foam_grain_spread}
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))
