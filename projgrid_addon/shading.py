@@ -62,6 +62,8 @@ PIXELS = 2.0
 # The most a pixel's footprint stretches at grazing angles (as the shader's): it stretches
 # along the view only, so an isotropic stretch by 1 / sqrt(cos) overstates it there.
 GRAZING = 3.0
+# `left_out_log` of a source that leaves nothing to the roughness: no band limit reaches it.
+NOT_LEFT_OUT = -100.0
 # The sea's roughness length (m): the wind at 12.5 m, where Cox and Munk measured it, from the
 # wind at 10 m by the logarithmic profile U(z) ~ ln(z / Z0).
 Z0 = 2e-4
@@ -78,26 +80,35 @@ def cox_munk(wind_speed):
 class Slopes:
     """The slope variance a height source draws (geometry, shader detail and ripples): in all;
     per unit ln(wavelength) at the short end of its waves above the ripples; the ripples' own
-    (0 for a source without them) and their longest wave (m); the shortest wave drawn (m)."""
+    (0 for a source without them) and their longest wave (m); the shortest wave drawn (m);
+    and where the geometry stops drawing (`left_out_log`)."""
 
     total: float
     density: float
     ripple: float
     ripple_top: float
     shortest: float
+    # ln of the wavelength (m) the geometry holds down to at band limit 0, less ln 2 per unit
+    # of band limit; the waves between it and the footprint are the roughness's. None: the
+    # shader's detail draws them (the noise's octaves are its own noise).
+    left_out_log: float | None = None
 
 
 @dataclass(frozen=True)
 class Filtering:
     """The shader's per-pixel slope variance of the waves too short to draw (Bruneton 2010).
     With L_p the shortest wave drawn, PIXELS pixels' footprint at distance d, the view at cos
-    to the mean sea plane (at least cos_floor):
+    to the mean sea plane (at least cos_floor), and L_g the shortest wave the geometry holds
+    at the vertices' band limit lod (a source whose shader detail draws what the geometry
+    leaves out: none):
 
         ln L_p  = distance_power ln d - ln(cos) / 2 + pixel_log
+        ln L_g  = left_out_log - lod ln 2
         sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
-                      + density max(ln L_p - ln T, 0), ceiling)
+                      + density max(max(ln L_p, ln L_g) - ln T, 0), ceiling)
 
-    S and T are the ripples' shortest and longest waves (`shortest_log`, `ripple_top_log`). The
+    S and T are the ripples' shortest and longest waves (`shortest_log`, `ripple_top_log`): the
+    waves above the ripples that neither the geometry nor a pixel draws are roughness. The
     slope variance Cox and Munk measured for the wind beyond what the sea draws is added to the
     ripples where there are any (their bump grows by `ripple_gain`: near the camera the sun
     glitters on them), else it is the `floor`; `ceiling` is the whole."""
@@ -112,6 +123,7 @@ class Filtering:
     shortest_log: float
     ripple_top_log: float
     ceiling: float
+    left_out_log: float = NOT_LEFT_OUT
 
 
 def pixel_footprint(proj, width):
@@ -135,7 +147,9 @@ def filtering(proj, width, slopes, wind_speed):
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),
                      ripple_top_log=float(np.log(slopes.ripple_top)),
-                     ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING**2)
+                     ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING**2,
+                     left_out_log=(NOT_LEFT_OUT if slopes.left_out_log is None
+                                   else slopes.left_out_log))
 
 
 def footprint_log(f, distance, cos_view=1.0):
@@ -153,8 +167,11 @@ def undrawn_share(top_log, bottom_log, footprint_log_):
     return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
 
 
-def unresolved_slope_variance(f, distance, cos_view=1.0):
-    """The roughness sigma^2 at `distance`, as the shader computes it."""
+def unresolved_slope_variance(f, distance, cos_view=1.0, lod=np.inf):
+    """The roughness sigma^2 at `distance`, the vertices' band limit `lod`, as the shader
+    computes it."""
     lp = footprint_log(f, distance, cos_view)
+    left = f.left_out_log - np.asarray(lod, dtype=np.float64) * np.log(2.0)
     return np.minimum(f.floor + f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
-                      + f.density * np.maximum(lp - f.ripple_top_log, 0.0), f.ceiling)
+                      + f.density * np.maximum(np.maximum(lp, left) - f.ripple_top_log, 0.0),
+                      f.ceiling)

@@ -318,14 +318,18 @@ class SpectralField:
     @cached_property
     def slopes(self):
         """The slope variance of the waves this sea draws (shading.Slopes): the spectrum's
-        k^2 S over the bands and over the ripples, down to the ripples' shortest wave."""
+        k^2 S over the bands and over the ripples, down to the ripples' shortest wave. What the
+        geometry's band limit leaves out is roughness where the pixel could show it too: a band
+        is half in the geometry at lod = its level + 1/2, where its shortest wave is 2^(1 - lod)
+        (`left_out_log`). (The shader's detail noise has a sea's height but hardly any of its
+        slopes: noise octaves halving in height from the band's longest wave.)"""
         top = bands()[-1][0]
         shortest = top / 2.0**RIPPLE_OCTAVES
         ripple = _slope_variance(self.state, shortest, top)
         return shading.Slopes(
             total=ripple + _slope_variance(self.state, top, 10.0 * BAND_LONGEST),
             density=_slope_variance(self.state, top, 2.0 * top) / np.log(2.0), ripple=ripple,
-            ripple_top=top, shortest=shortest)
+            ripple_top=top, shortest=shortest, left_out_log=float(np.log(2.0 * self.wave_scale)))
 
     def wavelength(self, octave):
         return self.wave_scale / 2.0**octave

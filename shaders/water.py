@@ -44,7 +44,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 11  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 12  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
@@ -92,6 +92,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Shortest Log", "NodeSocketFloat", -3.5),
     ("Ripple Top Log", "NodeSocketFloat", -1.4),
     ("Slope Ceiling", "NodeSocketFloat", 0.0),
+    ("Left Out Log", "NodeSocketFloat", -100.0),
 )
 
 
@@ -177,8 +178,12 @@ def _build(group):
                                        "Normal": normal}).outputs["Normal"]
     ripple_out = undrawn(i["Ripple Top Log"], i["Shortest Log"])
 
-    # The slope variance of the waves not drawn here: the microfacets' roughness.
-    beyond = g.math("MAXIMUM", g.math("SUBTRACT", footprint, i["Ripple Top Log"]), 0.0)
+    # The slope variance of the waves not drawn here: the microfacets' roughness. Above the
+    # ripples, those shorter than the footprint or than the geometry holds at the vertices'
+    # band limit (ln L_g = Left Out Log - lod ln 2).
+    held = g.math("MULTIPLY_ADD", lod, -LN2, i["Left Out Log"])
+    beyond = g.math("MAXIMUM", g.math("SUBTRACT", g.math("MAXIMUM", footprint, held),
+                                      i["Ripple Top Log"]), 0.0)
     slopes = g.math("MINIMUM", g.math("MULTIPLY_ADD", i["Slope Density"], beyond, g.math(
         "MULTIPLY_ADD", i["Ripple Slopes"], ripple_out, i["Slope Floor"])), i["Slope Ceiling"])
 
@@ -491,6 +496,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
+        "Left Out Log": filtering.left_out_log,
         "Wind Direction": wind_direction, "Foam Coverage": foam_coverage,
         "Foam Grain Spread": foam_grain_spread}
     for name, value in values.items():

@@ -266,9 +266,10 @@ def spectrum_slopes(state, shortest, longest=2e4, samples=20_000):
 
 @pytest.mark.parametrize("u", [3.0, 6.0, 10.0, 15.0, 20.0])
 def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
-    """At every distance the slope variance the geometry and the normals draw (the spectrum's
-    above the footprint, the ripples' bump as drawn) plus the roughness of the rest is Cox and
-    Munk's 0.003 + 5.12e-3 U(12.5 m) within 20 %, U(12.5 m) from U(10 m) by the log profile."""
+    """At every distance the slope variance drawn (the geometry's bands, each by its band-limit
+    weight squared, above the footprint; the ripples' bump as drawn) plus the roughness of the
+    rest is Cox and Munk's 0.003 + 5.12e-3 U(12.5 m) within 20 %, U(12.5 m) from U(10 m) by the
+    log profile: on a grid one or four pixels a vertex, and with every band whole."""
     state = SeaState(wind_speed=u)
     source = SpectralField(state)
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
@@ -276,16 +277,26 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     top = spectral_field.bands()[-1][0]
     ripple = source.slopes.ripple
     cox_munk = 0.003 + 5.12e-3 * u * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
+    levels = [np.log2(1.0 / shortest) + 0.5 for shortest, _ in spectral_field.bands()]
     for d in (1.0, 10.0, 100.0, 1e3, 1e4):
         for cos in (1.0, 0.05):
             lp = float(np.exp(shading.footprint_log(f, d, cos)))
-            drawn = spectrum_slopes(state, max(lp, top))
-            # the shader keeps the ripple noise's octaves (each an octave band of equal
-            # slopes, from 25 cm down) whose band lies above the footprint
-            octaves = np.clip(np.log2(top / lp), 0.0, spectral_field.RIPPLE_OCTAVES)
-            drawn += f.ripple_gain**2 * ripple * octaves / spectral_field.RIPPLE_OCTAVES
-            rough = float(shading.unresolved_slope_variance(f, d, cos))
-            assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lp)
+            spacing = lp / shading.PIXELS  # a vertex a pixel
+            for lod in (np.inf, *band_limit.lod_for_spacing(1.0, [spacing, 4.0 * spacing])):
+                drawn = 0.0
+                for (shortest, longest), level in zip(spectral_field.bands(), levels,
+                                                      strict=True):
+                    if longest > lp:
+                        weight = np.clip(lod - level, 0.0, 1.0)
+                        drawn += weight**2 * spectrum_slopes(
+                            state, max(shortest, lp),
+                            longest if level > levels[0] else 2e4)
+                # the shader keeps the ripple noise's octaves (each an octave band of equal
+                # slopes, from 25 cm down) whose band lies above the footprint
+                octaves = np.clip(np.log2(top / lp), 0.0, spectral_field.RIPPLE_OCTAVES)
+                drawn += f.ripple_gain**2 * ripple * octaves / spectral_field.RIPPLE_OCTAVES
+                rough = float(shading.unresolved_slope_variance(f, d, cos, lod))
+                assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lod, lp)
     assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn
 
 
