@@ -223,6 +223,7 @@ def foam_thresholds(source, time, coverage, samples=16384):
     coverage = min(max(float(coverage), 1e-6), 1.0)
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
     a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + FOAM_PERIOD))
+    source.prepare(time)  # a calibration prepares it at its own time: back to the frame's
     f = (time - t0) / FOAM_PERIOD
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 

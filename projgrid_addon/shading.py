@@ -44,6 +44,21 @@ class Detail:
     time_rate: float
 
 
+FOAM_EDGE = 0.5  # as the shader's (shaders/water.py)
+
+
+def grain_cover(fac, share, spread):
+    """The foam the shader draws where a grain noise of Fac `fac` (standard deviation `spread`
+    about 0.5) covers a vertex's `share` of the sea: where the noise's rank, by Bowling's
+    logistic approximation of the normal CDF (error about 1e-4), is within `share` of the
+    top, over an edge FOAM_EDGE * min(share, 1 - share) wide: its mean over the noise is the
+    share, and none is drawn at a share of nought."""
+    z = (np.asarray(fac, dtype=np.float64) - 0.5) / spread
+    rank = 1.0 / (1.0 + np.exp(-(1.5976 * z + 0.070566 * z**3)))
+    edge = FOAM_EDGE * np.minimum(share, 1.0 - share) + 1e-4
+    return np.clip((rank - 1.0 + share) / edge + 0.5, 0.0, 1.0) * (share > 0.0)
+
+
 def sun_direction(matrix_world):
     """Unit vector towards a sun lamp of world matrix `matrix_world` (4x4): it shines along its
     local -Z."""
@@ -167,11 +182,12 @@ def undrawn_share(top_log, bottom_log, footprint_log_):
     return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
 
 
-def unresolved_slope_variance(f, distance, cos_view=1.0, lod=np.inf):
-    """The roughness sigma^2 at `distance`, the vertices' band limit `lod`, as the shader
-    computes it."""
+def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None):
+    """The roughness sigma^2 at `distance`, the vertices' band limit `lod` (None: every band
+    whole), as the shader computes it."""
     lp = footprint_log(f, distance, cos_view)
-    left = f.left_out_log - np.asarray(lod, dtype=np.float64) * np.log(2.0)
+    lod = np.inf if lod is None else np.asarray(lod, dtype=np.float64)  # None: every band whole
+    left = f.left_out_log - lod * np.log(2.0)
     return np.minimum(f.floor + f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
                       + f.density * np.maximum(np.maximum(lp, left) - f.ripple_top_log, 0.0),
                       f.ceiling)

@@ -249,9 +249,11 @@ class SpectralField:
         return max(c.size for c in self.cascades) / 2.0 if self.cascades else 0.0
 
     def whole_level(self, wavelength):
-        """The band limit from which waves of `wavelength` (m) are whole in the geometry (as a
-        band's shortest: its level + 1)."""
-        return float(np.log2(self.wave_scale / wavelength) + 1.5)
+        """The band limit from which waves of `wavelength` (m) are whole in the geometry: that
+        of the band holding them (a band fades in whole), its level + 1."""
+        edges = [shortest for shortest, _ in bands()]
+        band = min(sum(e > wavelength for e in edges), BANDS - 1)  # bands longer than it
+        return float(np.log2(self.wave_scale / edges[band]) + 1.5)
 
     def foam_levels(self):
         """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's
@@ -425,8 +427,8 @@ class SpectralField:
             if self.choppiness == 0.0:
                 moved = xy + self.sample(xy, t, lod, SIDEWAYS)
             return _grid_jacobian(xy, moved)
-        top = max(self.levels, default=0.0) + 1.0
-        level = np.full(xy.shape[1:], top) if lod is None else np.asarray(lod, np.float64)
+        top = max(self.levels, default=0.0) + 1.0  # every band whole: no finer spacing counts
+        level = np.full(xy.shape[1:], top) if lod is None else np.minimum(lod, top)
         step = self.wave_scale * 2.0 ** -level / 2.0  # lod = log2(wave_scale / (2 spacing))
         points = np.repeat(xy[:, None], 4, axis=1)  # (2, 4, ...): +x, -x, +y, -y
         points[0, 0] += step

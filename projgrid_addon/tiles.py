@@ -42,6 +42,8 @@ class Lookup:
     scratch.py) named by `tag`, valid until the next Lookup of that tag."""
 
     def __init__(self, size, xy, scale, tag="", shift=(0.0, 0.0), turn=None):
+        if turn is not None and (shift[0] or shift[1]):
+            raise ValueError("Lookup: points are either shifted or turned, not both")
         self.shape = shape = xy.shape[1:]
         s = scratch("s" + tag, xy.shape, np.float64)
         if turn is not None:

@@ -48,8 +48,9 @@ VERSION = 12  # stored in the TAG property; a group or material of another versi
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
-# How soft a bubble's edge is, in the noise's ranks, per unit of the share: the ramp narrows
-# with the share, so no foam is drawn where the share is nought and its mean stays the share.
+# How soft a bubble's edge is, in the noise's ranks, per unit of the share (or of what it
+# leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
+# nought, everything at one, and the mean is the share (shading.grain_cover).
 FOAM_EDGE = 0.5
 FOAM_STREAK = 4.0  # and this many times more across it
 WHITECAP = 8.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
@@ -252,12 +253,14 @@ def _build(group):
     grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": i["Detail Time"],
                                           "Scale": FOAM_GRAIN, "Detail": FOAM_DETAIL,
                                           "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D")
+    # shading.grain_cover: the rank by Bowling's logistic approximation of the normal CDF.
     z = g.math("DIVIDE", g.math("SUBTRACT", grain.outputs["Fac"], 0.5), i["Foam Grain Spread"])
     rank = g.math("DIVIDE", 1.0, g.math("ADD", 1.0, g.math("POWER", E, g.math(
-        "MULTIPLY", z, -1.702))))
-    bubbles = g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math("SUBTRACT", rank, 1.0), foam),
-                                   g.math("MULTIPLY_ADD", foam, FOAM_EDGE, 1e-4)), 0.5,
-                     clamp=True)
+        "MULTIPLY", z, g.math("MULTIPLY_ADD", g.math("MULTIPLY", z, z), -0.070566, -1.5976)))))
+    edge = g.math("MULTIPLY_ADD", g.math("MINIMUM", foam, g.math("SUBTRACT", 1.0, foam)),
+                  FOAM_EDGE, 1e-4)
+    bubbles = g.math("MULTIPLY", g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math(
+        "SUBTRACT", rank, 1.0), foam), edge), 0.5, clamp=True), g.math("GREATER_THAN", foam, 0.0))
     # Where the pixel outgrows the grain's streaks, the share itself; where it outgrows a
     # whitecap, the sea's mean cover (per-vertex foam on a grid that moves with the camera
     # would pop).

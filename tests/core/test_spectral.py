@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from projgrid_addon import HeightField, band_limit, effects, shading, spectral_field, spectrum
-from projgrid_addon.camera import orthographic, perspective
+from projgrid_addon.camera import look_at, orthographic, perspective
+from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SHARE_PER_TILE, SpectralField
 from projgrid_addon.spectrum import GRAVITY, SeaState
 
@@ -309,3 +310,60 @@ def test_bad_sea_states_name_the_setting():
         SeaState(spectrum="GERSTNER")
     with pytest.raises(ValueError, match="choppiness"):
         SpectralField(SeaState(), choppiness=-0.5)
+
+
+@pytest.mark.parametrize("share", [0.002, 0.01, 0.05, 0.3, 0.7, 0.95, 1.0])
+def test_the_grain_covers_a_vertex_s_share(share):
+    """The shader's whitecaps (shading.grain_cover, as the node tree computes it) cover a
+    vertex's share of a grain noise whose Fac is normal about 0.5: their mean is the share,
+    and nothing is drawn where the share is nought."""
+    spread = 0.057
+    fac = 0.5 + spread * np.random.default_rng(5).standard_normal(2_000_000)
+    assert shading.grain_cover(fac, share, spread).mean() == pytest.approx(share, rel=0.05)
+    assert shading.grain_cover(fac, 0.0, spread).max() == 0.0
+
+
+def test_a_frame_s_foam_and_bounds_do_not_hang_on_earlier_frames():
+    """The foam calibrations prepare the sea at their own times; a frame's foam (with contact
+    foam, whose reach is the waves' bound) and bound are the same computed alone or after an
+    earlier frame of the same second."""
+    state = SeaState(wind_speed=14.0)
+    eye = np.array([0.0, 0.0, 10.0])
+    cam = (look_at(eye, eye + (0.0, np.cos(0.35), -np.sin(0.35))),
+           perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
+    unit = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    boxes = (unit + (0.0, 30.0, 0.0))[None]
+
+    def frame(source, t):
+        result = build_grid(cam, source, time=t, resolution=(33, 65))
+        return effects.foam_field(source, result, t, 14.0, True, boxes, 0.0), source.bound
+
+    foam, bound = frame(SpectralField(state, choppiness=1.0, seed=3), 12.5)
+    source = SpectralField(state, choppiness=1.0, seed=3)
+    frame(source, 12.45)
+    again, bound_again = frame(source, 12.5)
+    assert bound_again == bound and np.array_equal(again, foam)
+    assert foam.max() > 0.0  # foamed: not a comparison of nothing
+
+
+def test_a_frame_s_folding_spreads_as_the_calibration_s():
+    """On a real frame's grid (rows and columns of different spacings, turned to the view) the
+    fold cue the vertices show spreads as the calibration's at the same band limits: the
+    whitecaps cover the calibrated share on the mesh too."""
+    source = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=4)
+    eye = np.array([0.0, 0.0, 8.0])
+    cam = (look_at(eye, eye + (np.cos(0.4), np.sin(0.4), -0.25)),
+           perspective(np.radians(50.0), 16 / 9, 0.1, 1e4))
+    result = build_grid(cam, source, time=6.0, resolution=(257, 257))
+    xy = result.base
+    lod = result.lod.reshape(xy.shape[1:])
+    mesh = source.foam_cue(xy, 6.0, lod, grid=np.stack(result.surface[:2]))[1:-1, 1:-1]
+    lod = lod[1:-1, 1:-1]
+    apart = source.foam_cue(xy[:, 1:-1, 1:-1], 6.0, lod)
+    compared = 0
+    for low in np.arange(np.floor(lod.min()), np.ceil(lod.max()), 0.5):
+        inside = (lod >= low) & (lod < low + 0.5)
+        if inside.sum() > 2000:
+            assert mesh[inside].std() == pytest.approx(apart[inside].std(), rel=0.1), low
+            compared += 1
+    assert compared >= 3
