@@ -364,9 +364,10 @@ def _render(report):
             f"{now / before:.2f}×", now / before <= 1.1,
             "**Filtering's render cost.** The per-pixel roughness, mean Fresnel and the bumps' "
             f"fades take the water group to {now:.2f}× a plain glossy plane's render time, "
-            f"against {before:.2f}× before them (a ratio stored from another run; since it "
-            "was last met, 1.06×, the foam's per-pixel rank of its grain noise added about "
-            "fifteen math nodes, not yet measured apart)."))
+            f"against {before:.2f}× before them (a ratio stored from another run). Since it "
+            "was last met (1.06×) the foam's per-pixel rank of its grain noise was added: "
+            "foam on renders in 1.04× foam off's time (the default shot, 320×180, 16 "
+            "samples, four interleaved renders each)."))
         md += [f"The water group renders in {now:.2f}× a plain glossy plane's time at 16 "
                f"samples; before the filtering from geometry to BRDF, {before:.2f}× (commit "
                "8a8513a's run).", ""]
