@@ -47,14 +47,17 @@ class Detail:
 FOAM_EDGE = 0.5  # as the shader's (shaders/water.py)
 
 
-def grain_cover(fac, share, spread):
+BOWLING = (1.5976, 0.070566)  # the normal CDF as 1 / (1 + e^-(a z + b z^3)), error ~1e-4
+
+
+def grain_cover(fac, share, spread, cdf=BOWLING):
     """The foam the shader draws where a grain noise of Fac `fac` (standard deviation `spread`
-    about 0.5) covers a vertex's `share` of the sea: where the noise's rank, by Bowling's
-    logistic approximation of the normal CDF (error about 1e-4), is within `share` of the
-    top, over an edge FOAM_EDGE * min(share, 1 - share) wide: its mean over the noise is the
-    share, and none is drawn at a share of nought."""
+    about 0.5) covers a vertex's `share` of the sea: where the noise's rank, by its CDF
+    1 / (1 + e^-(a z + b z^3)) (`cdf` = (a, b); a normal one's by default), is within `share`
+    of the top, over an edge FOAM_EDGE * min(share, 1 - share) wide: its mean over the noise
+    is the share, and none is drawn at a share of nought."""
     z = (np.asarray(fac, dtype=np.float64) - 0.5) / spread
-    rank = 1.0 / (1.0 + np.exp(-(1.5976 * z + 0.070566 * z**3)))
+    rank = 1.0 / (1.0 + np.exp(-(cdf[0] * z + cdf[1] * z**3)))
     edge = FOAM_EDGE * np.minimum(share, 1.0 - share) + 1e-4
     return np.clip((rank - 1.0 + share) / edge + 0.5, 0.0, 1.0) * (share > 0.0)
 

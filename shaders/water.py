@@ -44,10 +44,17 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 12  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 13  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
+# Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
+# z in standard deviations: fitted to Blender's own noise over a period of its time
+# coordinate (1.3 million samples; the fractal's Fac has lighter tails than a normal one's,
+# and its spread varies by 4 % with the time), so the drawn cover is the share over time
+# (tests/blender/test_sea.py); at a 2 % share it swings by a quarter as the grain evolves.
+FOAM_GRAIN_STD = 0.0619
+FOAM_RANK = (1.522, 0.0963)
 # How soft a bubble's edge is, in the noise's ranks, per unit of the share (or of what it
 # leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
 # nought, everything at one, and the mean is the share (shading.grain_cover).
@@ -82,7 +89,6 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Time", "NodeSocketFloat", 0.0),
     ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
     ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
-    ("Foam Grain Spread", "NodeSocketFloat", 0.057),  # the grain noise's standard deviation
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
     ("Cos Floor", "NodeSocketFloat", 0.1),
@@ -253,10 +259,11 @@ def _build(group):
     grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": i["Detail Time"],
                                           "Scale": FOAM_GRAIN, "Detail": FOAM_DETAIL,
                                           "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D")
-    # shading.grain_cover: the rank by Bowling's logistic approximation of the normal CDF.
-    z = g.math("DIVIDE", g.math("SUBTRACT", grain.outputs["Fac"], 0.5), i["Foam Grain Spread"])
+    # shading.grain_cover, with the noise's own CDF (FOAM_RANK).
+    z = g.math("DIVIDE", g.math("SUBTRACT", grain.outputs["Fac"], 0.5), FOAM_GRAIN_STD)
     rank = g.math("DIVIDE", 1.0, g.math("ADD", 1.0, g.math("POWER", E, g.math(
-        "MULTIPLY", z, g.math("MULTIPLY_ADD", g.math("MULTIPLY", z, z), -0.070566, -1.5976)))))
+        "MULTIPLY", z, g.math("MULTIPLY_ADD", g.math("MULTIPLY", z, z), -FOAM_RANK[1],
+                              -FOAM_RANK[0])))))
     edge = g.math("MULTIPLY_ADD", g.math("MINIMUM", foam, g.math("SUBTRACT", 1.0, foam)),
                   FOAM_EDGE, 1e-4)
     bubbles = g.math("MULTIPLY", g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math(
@@ -470,15 +477,14 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0, foam_grain_spread=0.057):
+           foam_coverage=0.0):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
     included), so an animation writes nothing per frame; the filtering of the waves too short
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
     (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
-    where a pixel outgrows a whitecap; the standard deviation of the foam's grain noise
-    (FOAM_DETAIL, FOAM_ROUGHNESS), which ranks its points."""
+    where a pixel outgrows a whitecap."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -500,8 +506,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
         "Left Out Log": filtering.left_out_log,
-        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage,
-        "Foam Grain Spread": foam_grain_spread}
+        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

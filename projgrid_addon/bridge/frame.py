@@ -173,8 +173,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
                      ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
                      settings.wind_direction,
-                     effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0,
-                     shading.noise_fac_std(water.FOAM_DETAIL, water.FOAM_ROUGHNESS))
+                     effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0)
     if making:
         if restructured:
             companions.ensure_companions(surface)

@@ -246,3 +246,49 @@ def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
     group = sea.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
     assert group["projgrid_ocean"] == water.VERSION
     assert group_input(sea, "Slope Ceiling").default_value > 0.0
+
+
+def grain_noise(water, samples=700, w=3.7):
+    """The Fac of the foam's grain noise (as the water group sets it) over a square 400 m
+    across, evaluated by Blender's own noise through Geometry Nodes."""
+    mesh = bpy.data.meshes.new("grain")
+    obj = bpy.data.objects.new("grain", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    tree = bpy.data.node_groups.new("grain", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    grid = tree.nodes.new("GeometryNodeMeshGrid")
+    for axis in ("X", "Y"):
+        grid.inputs[f"Size {axis}"].default_value = 400.0
+        grid.inputs[f"Vertices {axis}"].default_value = samples
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    noise.noise_dimensions = "4D"
+    for name, value in (("Scale", water.FOAM_GRAIN), ("Detail", water.FOAM_DETAIL),
+                        ("Roughness", water.FOAM_ROUGHNESS), ("W", w)):
+        noise.inputs[name].default_value = value
+    store = tree.nodes.new("GeometryNodeStoreNamedAttribute")
+    store.inputs["Name"].default_value = "fac"
+    links = tree.links
+    links.new(tree.nodes.new("GeometryNodeInputPosition").outputs[0], noise.inputs["Vector"])
+    links.new(grid.outputs[0], store.inputs["Geometry"])
+    links.new(noise.outputs["Fac"], store.inputs["Value"])
+    links.new(store.outputs[0], tree.nodes.new("NodeGroupOutput").inputs[0])
+    obj.modifiers.new("grain", "NODES").node_group = tree
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    fac = np.empty(len(evaluated.vertices), np.float32)
+    evaluated.attributes["fac"].data.foreach_get("value", fac)
+    return fac
+
+
+def test_the_whitecaps_drawn_cover_the_share(extension):
+    """The shader draws a vertex's foam share as the top ranks of its grain noise: over
+    Blender's own noise, through a period of its time coordinate (at other times than the
+    constants were fitted at), the drawn cover is the share within 10 % from 0.001 to 0.95."""
+    water = extension.shaders.water
+    shading = extension.projgrid_addon.shading
+    facs = [grain_noise(water, samples=300, w=w) for w in np.linspace(0.05, 0.95, 7)]
+    spread = np.concatenate(facs).std()
+    assert spread == pytest.approx(water.FOAM_GRAIN_STD, rel=0.03)
+    for share in (0.001, 0.005, 0.02, 0.1, 0.5, 0.95):
+        drawn = np.mean([shading.grain_cover(f, share, water.FOAM_GRAIN_STD,
+                                             water.FOAM_RANK).mean() for f in facs])
+        assert drawn == pytest.approx(share, rel=0.10), share
