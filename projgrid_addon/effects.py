@@ -474,10 +474,9 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     if crests:
         coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
         calibration = foam_thresholds(source, time, coverage)
-        moved = np.stack(surface[:2])
-        xy = result.base if result.base is not None else moved
+        xy = result.base if result.base is not None else np.stack(surface[:2])
         lod = result.lod.reshape(xy.shape[1:])
-        foam = whitecaps(source.foam_cue(xy, time, lod, grid=moved), lod, calibration)
+        foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bound))

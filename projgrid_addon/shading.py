@@ -45,8 +45,6 @@ class Detail:
 
 
 FOAM_EDGE = 0.5  # as the shader's (shaders/water.py)
-
-
 BOWLING = (1.5976, 0.070566)  # the normal CDF as 1 / (1 + e^-(a z + b z^3)), error ~1e-4
 
 

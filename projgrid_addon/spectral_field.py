@@ -64,6 +64,13 @@ def bands():
             for b in range(BANDS)]
 
 
+def band_level(shortest):
+    """The band limit (band_limit.py, in units of 1 m) from which a band whose shortest wave is
+    `shortest` (m) fades in: whole one level up, while that wave is at least sqrt(2) * 2 grid
+    spacings long."""
+    return float(np.log2(1.0 / shortest) + 0.5)
+
+
 def band_shares(state):
     """Each band's share of the sea's height variance (the waves longer than BAND_LONGEST
     count with the first band, the shorter than the last band's with none)."""
@@ -215,7 +222,7 @@ class SpectralField:
                                   state, _phases(self.seed, b, j, texels), texels)
                 if not cascade.empty:
                     self.cascades.append(cascade)
-                    self.levels.append(np.log2(1.0 / shortest) + 0.5)
+                    self.levels.append(band_level(shortest))
         # The band limit (band_limit.py) in units of 1 m: a band is kept whole while its shortest
         # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.
         self.wave_scale = 1.0
@@ -253,7 +260,7 @@ class SpectralField:
         of the band holding them (a band fades in whole), its level + 1."""
         edges = [shortest for shortest, _ in bands()]
         band = min(sum(e > wavelength for e in edges), BANDS - 1)  # bands longer than it
-        return float(np.log2(self.wave_scale / edges[band]) + 1.5)
+        return band_level(edges[band]) + 1.0
 
     def foam_levels(self):
         """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's
@@ -274,7 +281,7 @@ class SpectralField:
             return BANDS, 0
         low = float(lod.min())
         out = [b for b, (shortest, _) in enumerate(bands())
-               if np.log2(1.0 / shortest) + 0.5 + 1.0 > low]
+               if band_level(shortest) + 1.0 > low]
         first = out[0] if out else BANDS
         return first, BANDS - first
 
@@ -423,9 +430,7 @@ class SpectralField:
         `lod` None: the spacing at which every band is whole), along x and along y."""
         xy = np.asarray(xy, dtype=np.float64)
         if grid is not None:
-            moved = np.asarray(grid, dtype=np.float64)
-            if self.choppiness == 0.0:
-                moved = xy + self.sample(xy, t, lod, SIDEWAYS)
+            moved = xy + self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0 else grid
             return _grid_jacobian(xy, moved)
         top = max(self.levels, default=0.0) + 1.0  # every band whole: no finer spacing counts
         level = np.full(xy.shape[1:], top) if lod is None else np.minimum(lod, top)
@@ -444,7 +449,7 @@ class SpectralField:
 
 
 def _grid_jacobian(base, moved):
-    """det(d moved / d(i, j)) / det(d base / d(i, j)) over a grid (2, rows, columns)."""
+    """det(d moved / d(i, j)) / det(d base / d(i, j)) over a grid: x and y (rows, columns)."""
     d = grid_derivative
     area = d(base[0], 1) * d(base[1], 0) - d(base[0], 0) * d(base[1], 1)
     turned = d(moved[0], 1) * d(moved[1], 0) - d(moved[0], 0) * d(moved[1], 1)

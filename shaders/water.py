@@ -242,8 +242,8 @@ def _build(group):
                                             2: reflection.outputs[0]})
     # Foam (Jensen and Golias): a rough white cover where the crests carry it. The per-vertex
     # foam f is a share to cover, not an opacity: a point is foam where the rank of a grain
-    # noise (its Fac through the logistic approximation of the normal distribution's CDF, so
-    # nearly uniform in [0, 1]) is above 1 - f. So a whitecap is a solid core whose edge breaks
+    # noise (its Fac through the noise's own CDF, FOAM_RANK, so nearly uniform in [0, 1]) is
+    # above 1 - f. So a whitecap is a solid core whose edge breaks
     # into bubbles and streaks, not the round blob the vertices interpolate, and the covered
     # share stays the calibrated one. The noise is FOAM_STREAK times finer across the wind than
     # along it: the wind draws foam out into streaks.

@@ -288,6 +288,7 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
     facs = [grain_noise(water, samples=300, w=w) for w in np.linspace(0.05, 0.95, 7)]
     spread = np.concatenate(facs).std()
     assert spread == pytest.approx(water.FOAM_GRAIN_STD, rel=0.03)
+    assert shading.FOAM_EDGE == water.FOAM_EDGE  # the mirror draws the shader's edge
     for share in (0.001, 0.005, 0.02, 0.1, 0.5, 0.95):
         drawn = np.mean([shading.grain_cover(f, share, water.FOAM_GRAIN_STD,
                                              water.FOAM_RANK).mean() for f in facs])

@@ -278,7 +278,7 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     top = spectral_field.bands()[-1][0]
     ripple = source.slopes.ripple
     cox_munk = 0.003 + 5.12e-3 * u * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
-    levels = [np.log2(1.0 / shortest) + 0.5 for shortest, _ in spectral_field.bands()]
+    levels = [spectral_field.band_level(shortest) for shortest, _ in spectral_field.bands()]
     for d in (1.0, 10.0, 100.0, 1e3, 1e4):
         for cos in (1.0, 0.05):
             lp = float(np.exp(shading.footprint_log(f, d, cos)))
