@@ -145,23 +145,26 @@ class Cascade:
         # the transforms and the patches move half the bytes.
         self.h0 = (phases * (np.sqrt(0.5 * energy) * dk)).astype(np.complex64)
         self.h0_neg_conj = np.conj(self.h0[neg][:, neg])
-        self.kx, self.ky = world(nx, ny)
-        k = np.hypot(self.kx, self.ky)
+        # The fields are real, their spectra Hermitian: each is made from the half of the
+        # lattice with nx >= 0 by a real inverse transform (no band reaches the Nyquist row).
+        half = slice(0, texels // 2 + 1)
+        self._h0, self._h0_neg_conj = self.h0[:, half], self.h0_neg_conj[:, half]
+        kx, ky = world(nx[:, half], ny[:, half])
+        k = np.hypot(kx, ky)
         self.omega = np.sqrt(spectrum.GRAVITY * k)
         safe = np.where(k > 0.0, k, 1.0)
-        self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
+        self.ux, self.uy = kx / safe, ky / safe  # unit wave vectors
         self.empty = not np.any(energy > 0.0)
         self._factors = {}
 
-    def _factor(self, a, b, lam):
-        """The multiplier taking h(k) to the spectrum of field a plus i times field b's (b None:
-        field a alone), complex64, made once per pair and choppiness."""
-        key = (a, b, lam)
+    def _factor(self, field, lam):
+        """The multiplier taking h(k) to the spectrum of `field` (index into FIELDS),
+        complex64, made once per field and choppiness."""
+        key = (field, lam)
         hit = self._factors.get(key)
         if hit is None:
-            of = {0: lambda: np.ones_like(self.kx), 1: lambda: 1j * lam * self.ux,
-                  2: lambda: 1j * lam * self.uy}
-            hit = of[a]() + (0.0 if b is None else 1j * of[b]())
+            hit = {0: lambda: np.ones_like(self.ux), 1: lambda: 1j * lam * self.ux,
+                   2: lambda: 1j * lam * self.uy}[field]()
             hit = self._factors[key] = np.asarray(hit, np.complex64)
         return hit
 
@@ -175,17 +178,11 @@ class Cascade:
         phase = np.empty(angle.shape, np.complex64)
         phase.real = np.cos(angle)
         phase.imag = -np.sin(angle)
-        h = self.h0 * phase
-        h += self.h0_neg_conj * np.conj(phase)
-        wanted = sorted(which)
-        real = {}
-        for i in range(0, len(wanted), 2):  # two real fields per complex transform
-            a = wanted[i]
-            b = wanted[i + 1] if i + 1 < len(wanted) else None
-            both = np.fft.ifft2(h * self._factor(a, b, lam), norm="forward")
-            real[a] = both.real
-            if b is not None:
-                real[b] = both.imag
+        h = self._h0 * phase
+        h += self._h0_neg_conj * np.conj(phase)
+        shape = (self.texels, self.texels)
+        real = {f: np.fft.irfft2(h * self._factor(f, lam) if f else h, s=shape, norm="forward")
+                for f in which}
         bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
         side = float(np.hypot(real[1], real[2]).max()) if 1 in real and 2 in real else 0.0
         return {f: periodic_patches(real[f]) for f in which}, bound, side
@@ -245,6 +242,25 @@ class SpectralField:
         power = sum(float(np.sum(np.abs(c.h0) ** 2 + np.abs(c.h0_neg_conj) ** 2))
                     for c in self.cascades)
         return float(np.sqrt(power)), float(self.choppiness * np.sqrt(power))
+
+    def autocorrelation(self, lags, fine=4):
+        """The surface's height autocorrelation at `lags` (2, ...) m, over its random phases
+        (Wiener-Khinchin): each tile's power |h0(k)|^2 + |h0(-k)|^2 transformed on its own
+        lattice, so it is periodic with the tile and returns to the tile's share of the
+        variance wherever the tile repeats. Transformed `fine` times denser than the tile's
+        texels (exact there) and sampled bilinearly between."""
+        lags = np.asarray(lags, dtype=np.float64)
+        out = np.zeros(lags.shape[1:])
+        offsets = lags.astype(np.float32)
+        for c in self.cascades:
+            n = c.texels * fine
+            power = np.zeros((n, n))
+            at = np.fft.fftfreq(c.texels, 1.0 / c.texels).astype(int) % n
+            power[np.ix_(at, at)] = np.abs(c.h0) ** 2 + np.abs(c.h0_neg_conj) ** 2
+            acf = np.fft.ifft2(power, norm="forward").real.astype(np.float32)
+            out += Lookup.turned(n, offsets, (0.0, 0.0), n / c.size, c.turn,
+                                 "acf").sample(periodic_patches(acf))
+        return out / self.spread[0] ** 2 if self.cascades else out
 
     @property
     def first_level(self):
@@ -383,18 +399,32 @@ class SpectralField:
         step = max(1, CHUNK // out2.shape[-1])
         for start in range(0, out2.shape[1], step):
             band = slice(start, start + step)
-            self._sum(xy2[:, band], None if lod2 is None else lod2[band], fields, out2[:, band])
+            origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
+            offsets = scratch("offsets", xy2[:, band].shape, np.float32)
+            np.subtract(xy2[:, band], origin[:, None, None], out=offsets, casting="same_kind")
+            self._sum(origin, offsets, None if lod2 is None else lod2[band], fields,
+                      out2[:, band])
         return out
 
-    def _sum(self, xy, lod, fields, out):
+    @staticmethod
+    def _origin(xy, lod):
+        """Where a chunk's points are taken from in single precision: the point of the finest
+        detail (the shortest bands are sampled only near it), or without a band limit the
+        middle of the chunk's extent."""
+        if lod is None:
+            return 0.5 * (xy.min(axis=(1, 2)) + xy.max(axis=(1, 2)))
+        i = np.unravel_index(np.argmax(lod), lod.shape)
+        return xy[:, i[0], i[1]].copy()
+
+    def _sum(self, origin, offsets, lod, fields, out):
         for cascade, level, textures in zip(self.cascades, self.levels, self.textures,
                                             strict=True):
             job = row_jobs(lod, level)
             if job is None:
                 continue
             rows, weighted = job
-            where = Lookup(cascade.texels, xy[:, rows], cascade.texels / cascade.size,
-                           turn=cascade.turn)
+            where = Lookup.turned(cascade.texels, offsets[:, rows], origin,
+                                  cascade.texels / cascade.size, cascade.turn)
             weight = None
             if weighted:
                 weight = octave_weights(lod[rows], level,

@@ -36,37 +36,58 @@ def periodic_patches(tile):
 
 
 class Lookup:
-    """Where points xy (2, ...), less `shift` or turned by `turn` (cos, sin: into the frame of a
-    texture turned by that angle), fall in a periodic texture `size` texels across at `scale`
-    texels per unit: each point's texel and its fractions. Its arrays are scratch arrays (see
-    scratch.py) named by `tag`, valid until the next Lookup of that tag."""
+    """Where points xy (2, ...), less `shift`, fall in a periodic texture `size` texels across
+    at `scale` texels per unit: each point's texel and its fractions. Its arrays are scratch
+    arrays (see scratch.py) named by `tag`, valid until the next Lookup of that tag.
+    `Lookup.turned` finds float32 offsets from an origin in a turned texture."""
 
-    def __init__(self, size, xy, scale, tag="", shift=(0.0, 0.0), turn=None):
-        if turn is not None and (shift[0] or shift[1]):
-            raise ValueError("Lookup: points are either shifted or turned, not both")
-        self.shape = shape = xy.shape[1:]
+    def __init__(self, size, xy, scale, tag="", shift=(0.0, 0.0)):
         s = scratch("s" + tag, xy.shape, np.float64)
-        if turn is not None:
-            c, sn = turn[0] * scale, turn[1] * scale
-            across = scratch("across" + tag, shape, np.float64)
-            np.multiply(xy[0], c, out=s[0])
-            s[0] += np.multiply(xy[1], sn, out=across)
-            np.multiply(xy[1], c, out=s[1])
-            s[1] -= np.multiply(xy[0], sn, out=across)
-        elif shift[0] or shift[1]:
-            np.subtract(xy, np.reshape(shift, (2,) + (1,) * len(shape)), out=s)
+        if shift[0] or shift[1]:
+            np.subtract(xy, np.reshape(shift, (2,) + (1,) * (xy.ndim - 1)), out=s)
             s *= scale
         else:
             np.multiply(xy, scale, out=s)
-        cell = scratch("cell" + tag, xy.shape, np.float64)
+        self._locate(size, s, tag)
+
+    @classmethod
+    def turned(cls, size, offsets, origin, scale, turn, tag=""):
+        """A Lookup of the points origin + offsets in a texture turned by `turn` (cos, sin) on
+        the plane. `offsets` (2, ...) float32: the texel coordinates are taken in single
+        precision, the origin's reduced by the period in double first, so a texel coordinate
+        is as exact as the offsets are small (the bands are sampled only within some
+        thousand texels of the camera, where the float32 error is below 1e-3 texel)."""
+        self = cls.__new__(cls)
+        c, sn = turn[0] * scale, turn[1] * scale
+        x0, y0 = float(origin[0]), float(origin[1])
+        start = ((x0 * c + y0 * sn) % size, (y0 * c - x0 * sn) % size)
+        s = scratch("s32" + tag, offsets.shape, np.float32)
+        across = scratch("across" + tag, offsets.shape[1:], np.float32)
+        c, sn = np.float32(c), np.float32(sn)
+        np.multiply(offsets[0], c, out=s[0])
+        s[0] += np.multiply(offsets[1], sn, out=across)
+        np.multiply(offsets[1], c, out=s[1])
+        s[1] -= np.multiply(offsets[0], sn, out=across)
+        s[0] += np.float32(start[0])
+        s[1] += np.float32(start[1])
+        self._locate(size, s, tag)
+        return self
+
+    def _locate(self, size, s, tag):
+        """Texel index and fractions of texel coordinates s (2, ...), which it overwrites."""
+        self.shape = shape = s.shape[1:]
+        cell = scratch("cell" + tag + s.dtype.char, s.shape, s.dtype)
         np.floor(s, out=cell)
-        ij = scratch("ij" + tag, xy.shape, np.int64)
+        ij = scratch("ij" + tag, s.shape, np.int32 if s.dtype == np.float32 else np.int64)
         np.copyto(ij, cell, casting="unsafe")
         np.subtract(s, cell, out=s)
-        self.frac = scratch("frac" + tag, xy.shape, np.float32)
-        np.copyto(self.frac, s, casting="same_kind")
+        if s.dtype == np.float32:
+            self.frac = s
+        else:
+            self.frac = scratch("frac" + tag, s.shape, np.float32)
+            np.copyto(self.frac, s, casting="same_kind")
         np.bitwise_and(ij, size - 1, out=ij)
-        self.idx = scratch("idx" + tag, shape, np.int64)
+        self.idx = scratch("idx" + tag, shape, np.intp)
         np.multiply(ij[1], size, out=self.idx)
         self.idx += ij[0]
         self.tag = tag
