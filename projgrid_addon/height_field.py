@@ -138,6 +138,8 @@ def shared_tiles(seed, texels):
 class HeightField:
     """Fractal animated noise heights with a true displacement bound (S_upper/S_lower of §2.2)."""
 
+    layer = None  # no slope layer (slope_layer.py): the shader's noise detail draws its octaves
+
     def __init__(self, amplitude=0.5, wave_scale=40.0, octaves=8, roughness=0.5, speed=1.0,
                  seed=0, method="fast", texels=4, wind_direction=0.0, choppiness=0.0):
         self.amplitude = non_negative("amplitude", amplitude)

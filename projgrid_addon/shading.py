@@ -108,6 +108,13 @@ class Slopes:
     # of band limit; the waves between it and the footprint are the roughness's. None: the
     # shader's detail draws them (the noise's octaves are its own noise).
     left_out_log: float | None = None
+    # The longest wave of the slope layer (slope_layer.py: normal maps drawing the waves from
+    # it down to the ripples wherever a pixel shows them, whatever the vertices hold); None:
+    # no layer.
+    layer_top: float | None = None
+    # The slope variance per unit ln(wavelength) at the layer's top, over its first octave
+    # (near a low wind's peak far below `density`); None: `density`.
+    layer_density: float | None = None
 
 
 @dataclass(frozen=True)
@@ -121,10 +128,13 @@ class Filtering:
         ln L_p  = distance_power ln d - ln(cos) / 2 + pixel_log
         ln L_g  = left_out_log - lod ln 2
         sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
-                      + density max(max(ln L_p, ln L_g) - ln T, 0), ceiling)
+                      + density clamp(ln L_p - ln T, 0, ln N - ln T)
+                      + above max(max(ln L_p, ln L_g) - max(ln N, ln T), 0), ceiling)
 
-    S and T are the ripples' shortest and longest waves (`shortest_log`, `ripple_top_log`): the
-    waves above the ripples that neither the geometry nor a pixel draws are roughness. The
+    S and T are the ripples' shortest and longest waves (`shortest_log`, `ripple_top_log`), N
+    the slope layer's longest (`layer_top_log`; none: T): the waves above the ripples that
+    no pixel shows are roughness, and above the layer also those the geometry leaves out, their
+    slopes per unit ln(wavelength) `density` below N and `above` (`layer_density`) above. The
     slope variance Cox and Munk measured for the wind beyond what the sea draws is added to the
     ripples where there are any (their bump grows by `ripple_gain`: near the camera the sun
     glitters on them), else it is the `floor`; `ceiling` is the whole."""
@@ -140,6 +150,8 @@ class Filtering:
     ripple_top_log: float
     ceiling: float
     left_out_log: float = NOT_LEFT_OUT
+    layer_top_log: float = -100.0
+    layer_density: float = 0.0
 
 
 def pixel_footprint(proj, width):
@@ -165,7 +177,10 @@ def filtering(proj, width, slopes, wind_speed):
                      ripple_top_log=float(np.log(slopes.ripple_top)),
                      ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING**2,
                      left_out_log=(NOT_LEFT_OUT if slopes.left_out_log is None
-                                   else slopes.left_out_log))
+                                   else slopes.left_out_log),
+                     layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
+                     layer_density=(slopes.density if slopes.layer_density is None
+                                    else slopes.layer_density))
 
 
 def footprint_log(f, distance, cos_view=1.0):
@@ -189,6 +204,19 @@ def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None):
     lp = footprint_log(f, distance, cos_view)
     lod = np.inf if lod is None else np.asarray(lod, dtype=np.float64)  # None: every band whole
     left = f.left_out_log - lod * np.log(2.0)
+    top = max(f.layer_top_log, f.ripple_top_log)
     return np.minimum(f.floor + f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
-                      + f.density * np.maximum(np.maximum(lp, left) - f.ripple_top_log, 0.0),
+                      + f.density * np.clip(lp - f.ripple_top_log, 0.0, top - f.ripple_top_log)
+                      + f.layer_density * np.maximum(np.maximum(lp, left) - top, 0.0),
                       f.ceiling)
+
+
+def layer_gain(band, lod, footprint_log_):
+    """How strongly the shader draws a slope-layer band (slope_layer.LayerBand) at the
+    vertices' band limit `lod` and a pixel footprint (ln m): by sqrt(1 - g^2), g the share of
+    it the vertices hold (their own tiles are independent of the layer's, so the variances
+    add), times the root of the share of its slopes (log-uniform) in waves longer than the
+    footprint."""
+    g = np.clip(np.asarray(lod, dtype=np.float64) - band.level, 0.0, 1.0)
+    shown = np.clip((band.top_log - footprint_log_) / (band.top_log - band.bottom_log), 0.0, 1.0)
+    return np.sqrt(1.0 - g * g) * np.sqrt(shown)

@@ -49,11 +49,13 @@ SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 9
 # times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
 TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
 RIPPLE_OCTAVES = 3  # the spectrum's tail below the last band, as shading detail: 25 cm to 3 cm
+LAYER_FIRST = 3  # the bands from this one on are the slope layer's too (slope_layer.py)
 FOAM_STEPS = 2  # foam calibrations over a band's fade-in (foam_levels)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
 BIG = 2  # how many times more texels (and metres) a band holding more than that has
-# Fields a tile can give: the height and the choppy displacement along x and y.
-FIELDS = ("h", "dx", "dy")
+# Fields a tile can give: the height, the choppy displacement along x and y, and the height's
+# slopes along x and y (slope_layer.py).
+FIELDS = ("h", "dx", "dy", "sx", "sy")
 GEOMETRY = (0, 1, 2)
 SIDEWAYS = (1, 2)
 
@@ -96,7 +98,7 @@ def _slope_variance(state, shortest, longest, samples=4000):
 
 
 @lru_cache(maxsize=64)
-def _phases(seed, band, tile, texels):
+def tile_phases(seed, band, tile, texels):
     """e^(i phi) per wave vector of one tile, phi uniform: fixed by the seed alone."""
     rng = np.random.default_rng(np.random.SeedSequence([int(seed) & 0xFFFFFFFF, band, tile]))
     out = np.exp(2j * np.pi * rng.random((texels, texels)))
@@ -149,13 +151,21 @@ class Cascade:
         # lattice with nx >= 0 by a real inverse transform (no band reaches the Nyquist row).
         half = slice(0, texels // 2 + 1)
         self._h0, self._h0_neg_conj = self.h0[:, half], self.h0_neg_conj[:, half]
-        kx, ky = world(nx[:, half], ny[:, half])
-        k = np.hypot(kx, ky)
+        self.kx, self.ky = world(nx[:, half], ny[:, half])
+        k = np.hypot(self.kx, self.ky)
         self.omega = np.sqrt(spectrum.GRAVITY * k)
         safe = np.where(k > 0.0, k, 1.0)
-        self.ux, self.uy = kx / safe, ky / safe  # unit wave vectors
+        self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
         self.empty = not np.any(energy > 0.0)
         self._factors = {}
+
+    def half_power(self):
+        """|h0(k)|^2 + |h0(-k)|^2 over the half lattice the transforms use, each column but
+        the first and the last counted twice: it stands for its mirror too."""
+        power = np.abs(self._h0) ** 2 + np.abs(self._h0_neg_conj) ** 2
+        twice = np.full(power.shape[1], 2.0)
+        twice[0] = twice[-1] = 1.0
+        return power * twice
 
     def _factor(self, field, lam):
         """The multiplier taking h(k) to the spectrum of `field` (index into FIELDS),
@@ -164,7 +174,8 @@ class Cascade:
         hit = self._factors.get(key)
         if hit is None:
             hit = {0: lambda: np.ones_like(self.ux), 1: lambda: 1j * lam * self.ux,
-                   2: lambda: 1j * lam * self.uy}[field]()
+                   2: lambda: 1j * lam * self.uy, 3: lambda: 1j * self.kx,
+                   4: lambda: 1j * self.ky}[field]()
             hit = self._factors[key] = np.asarray(hit, np.complex64)
         return hit
 
@@ -172,6 +183,14 @@ class Cascade:
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
         t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
         |(dx, dy)| of the samples (0 where those fields were not asked for)."""
+        real = self.samples(t, lam, which)
+        bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
+        side = float(np.hypot(real[1], real[2]).max()) if 1 in real and 2 in real else 0.0
+        return {f: periodic_patches(real[f]) for f in which}, bound, side
+
+    def samples(self, t, lam, which):
+        """{index: (texels, texels) float32} of the `which` fields at time t: the tile's
+        samples, row y, column x of its turned lattice."""
         turns = self.omega * (t / (2.0 * np.pi))  # in float64: t may be large
         turns -= np.floor(turns)
         angle = (2.0 * np.pi) * turns.astype(np.float32)  # float32 sines are many times faster
@@ -181,11 +200,8 @@ class Cascade:
         h = self._h0 * phase
         h += self._h0_neg_conj * np.conj(phase)
         shape = (self.texels, self.texels)
-        real = {f: np.fft.irfft2(h * self._factor(f, lam) if f else h, s=shape, norm="forward")
+        return {f: np.fft.irfft2(h * self._factor(f, lam) if f else h, s=shape, norm="forward")
                 for f in which}
-        bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
-        side = float(np.hypot(real[1], real[2]).max()) if 1 in real and 2 in real else 0.0
-        return {f: periodic_patches(real[f]) for f in which}, bound, side
 
 
 class SpectralField:
@@ -216,7 +232,7 @@ class SpectralField:
                 # tiles' lattices line up (and the crests of a band never run along them all).
                 angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
                 cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
-                                  state, _phases(self.seed, b, j, texels), texels)
+                                  state, tile_phases(self.seed, b, j, texels), texels)
                 if not cascade.empty:
                     self.cascades.append(cascade)
                     self.levels.append(band_level(shortest))
@@ -233,6 +249,12 @@ class SpectralField:
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
+
+    @cached_property
+    def layer(self):
+        """The slopes of the short bands as the shader's normal maps (slope_layer.py)."""
+        from .slope_layer import SlopeLayer  # it builds on this module's cascades
+        return SlopeLayer(self.state, self.seed)
 
     @cached_property
     def spread(self):
@@ -302,15 +324,16 @@ class SpectralField:
         return first, BANDS - first
 
     def shader_detail(self, first, count):
-        """The bands from `first` on as the shader's noise (shading.Detail): two octaves a band,
-        from the band's longest wave, each half the height of the one before (the spectrum's
-        tail), as high as those bands' share of the sea's height (its standard deviation over
-        the noise texture's)."""
+        """The bands from `first` on above the slope layer (which draws the rest) as the
+        shader's noise (shading.Detail): two octaves a band, from the band's longest wave, each
+        half the height of the one before (the spectrum's tail), as high as those bands' share
+        of the sea's height (its standard deviation over the noise texture's)."""
+        count = min(first + count, LAYER_FIRST) - first
         if count <= 0 or first >= BANDS:
             return shading.Detail(first=BANDS, scale=1.0, octaves=0.0, roughness=0.5,
                                   height=0.0, time_rate=0.0)
         longest = bands()[first][1]
-        sigma = np.sqrt(self._m0 * sum(self._shares[first:]))
+        sigma = np.sqrt(self._m0 * sum(self._shares[first:first + count]))
         return shading.Detail(first=int(first), scale=1.0 / longest,
                               octaves=float(2 * count - 1), roughness=0.5,
                               height=float(sigma / shading.noise_fac_std(2 * count - 1, 0.5)),
@@ -351,10 +374,13 @@ class SpectralField:
         top = bands()[-1][0]
         shortest = top / 2.0**RIPPLE_OCTAVES
         ripple = _slope_variance(self.state, shortest, top)
+        layer_top = bands()[LAYER_FIRST][1]
         return shading.Slopes(
             total=ripple + _slope_variance(self.state, top, 10.0 * BAND_LONGEST),
             density=_slope_variance(self.state, top, 2.0 * top) / np.log(2.0), ripple=ripple,
-            ripple_top=top, shortest=shortest, left_out_log=float(np.log(2.0 * self.wave_scale)))
+            ripple_top=top, shortest=shortest, left_out_log=float(np.log(2.0 * self.wave_scale)),
+            layer_top=layer_top,
+            layer_density=_slope_variance(self.state, layer_top, 2.0 * layer_top) / np.log(2.0))
 
     def wavelength(self, octave):
         return self.wave_scale / 2.0**octave

@@ -30,11 +30,12 @@ Over 300 lines on purpose: one node tree, built top to bottom as the shading mod
 """
 
 import math
+import zlib
 
 import bpy
 import numpy as np
 
-from .nodes import TAG, Graph, assign, empty_tree
+from .nodes import TAG, Graph, assign, empty_tree, socket
 
 E = 2.718281828459045  # the natural logarithm's base
 LN2 = 0.6931471805599453
@@ -44,7 +45,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 13  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 14  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
@@ -100,7 +101,18 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Top Log", "NodeSocketFloat", -1.4),
     ("Slope Ceiling", "NodeSocketFloat", 0.0),
     ("Left Out Log", "NodeSocketFloat", -100.0),
+    ("Layer Top Log", "NodeSocketFloat", -100.0),
+    ("Layer Density", "NodeSocketFloat", 0.0),
+    # The slope layer's bands (projgrid_addon/slope_layer.py): slopes from the material's
+    # images, the band limit from which the vertices hold each, its waves' range (ln m).
+    *((f"Layer Slopes {b}", "NodeSocketVector", (0.0, 0.0, 0.0)) for b in (1, 2, 3)),
+    *((f"Layer Level {b}", "NodeSocketFloat", -100.0) for b in (1, 2, 3)),
+    *((f"Layer Top Log {b}", "NodeSocketFloat", 0.0) for b in (1, 2, 3)),
+    *((f"Layer Bottom Log {b}", "NodeSocketFloat", -1.0) for b in (1, 2, 3)),
 )
+LAYER_BANDS = 3
+LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own images
+LAYER_WRITTEN = "projgrid_tile"  # on a layer image: a checksum of the tile it holds
 
 
 def node_group():
@@ -168,9 +180,27 @@ def _build(group):
         strength = g.math("SQRT", g.math("MAXIMUM", g.math("MINIMUM", shown, 1.0), 0.0))
         return strength, g.math("MULTIPLY", height, kept), fac
 
-    # Left-out octaves as bump detail: full where the vertices carry none of the first shader
-    # octave (lod <= first), none where they carry it whole; and only as far as a pixel shows
-    # them.
+    # The slope layer: each band's slopes by sqrt(1 - g^2), g the share the vertices hold
+    # (their tiles are independent of the layer's, so the variances add), times the root of
+    # the share of its slopes in waves a pixel shows (shading.layer_gain), tilting the
+    # geometry's normal (from below, its flipped one the other way).
+    slope = None
+    for b in range(1, LAYER_BANDS + 1):
+        held = g.math("SUBTRACT", lod, i[f"Layer Level {b}"], clamp=True)
+        top, bottom = i[f"Layer Top Log {b}"], i[f"Layer Bottom Log {b}"]
+        shown = g.math("DIVIDE", g.math("SUBTRACT", top, footprint),
+                       g.math("MAXIMUM", g.math("SUBTRACT", top, bottom), 1e-6), clamp=True)
+        gain = g.math("SQRT", g.math("MULTIPLY", g.math("MAXIMUM", g.math(
+            "MULTIPLY_ADD", held, g.math("MULTIPLY", held, -1.0), 1.0), 0.0), shown))
+        term = g.vector("SCALE", i[f"Layer Slopes {b}"], Scale=gain)
+        slope = term if slope is None else g.vector("ADD", slope, term)
+    up = g.node("ShaderNodeSeparateXYZ", {0: geo["Normal"]}).outputs["Z"]
+    tilt = g.vector("MULTIPLY", slope, g.node("ShaderNodeCombineXYZ", {
+        "X": g.math("MULTIPLY", up, -1.0), "Y": g.math("MULTIPLY", up, -1.0)}).outputs[0])
+
+    # Left-out octaves above the layer as bump detail: full where the vertices carry none of
+    # the first shader octave (lod <= first), none where they carry it whole; and only as far
+    # as a pixel shows them.
     lod_fade = g.math("SUBTRACT", g.math("ADD", i["Detail First Octave"], 1.0), lod, clamp=True)
     strength, height, fac = drawn_noise(geo["Position"], i["Detail Time"], i["Detail Scale"],
                                         i["Detail Octaves"], i["Detail Roughness"],
@@ -183,16 +213,26 @@ def _build(group):
                                         i["Ripple Top Log"])
     normal = g.node("ShaderNodeBump", {"Strength": strength, "Distance": height, "Height": fac,
                                        "Normal": normal}).outputs["Normal"]
+    # The layer tilts the bumped normal after the bumps: a Bump node fed a normal sampled from
+    # an image hangs EEVEE's renders of more than one sample (5.2, on the CPU).
+    normal = g.vector("NORMALIZE", g.vector("ADD", normal, tilt))
     ripple_out = undrawn(i["Ripple Top Log"], i["Shortest Log"])
 
-    # The slope variance of the waves not drawn here: the microfacets' roughness. Above the
-    # ripples, those shorter than the footprint or than the geometry holds at the vertices'
-    # band limit (ln L_g = Left Out Log - lod ln 2).
+    # The slope variance of the waves not drawn here: the microfacets' roughness
+    # (shading.Filtering). Above the ripples, those shorter than the footprint; above the
+    # slope layer also those shorter than the geometry holds at the vertices' band limit
+    # (ln L_g = Left Out Log - lod ln 2).
     held = g.math("MULTIPLY_ADD", lod, -LN2, i["Left Out Log"])
-    beyond = g.math("MAXIMUM", g.math("SUBTRACT", g.math("MAXIMUM", footprint, held),
-                                      i["Ripple Top Log"]), 0.0)
-    slopes = g.math("MINIMUM", g.math("MULTIPLY_ADD", i["Slope Density"], beyond, g.math(
-        "MULTIPLY_ADD", i["Ripple Slopes"], ripple_out, i["Slope Floor"])), i["Slope Ceiling"])
+    layer_top = g.math("MAXIMUM", i["Layer Top Log"], i["Ripple Top Log"])
+    below = g.math("MINIMUM", g.math("MAXIMUM", g.math(
+        "SUBTRACT", footprint, i["Ripple Top Log"]), 0.0), g.math(
+        "SUBTRACT", layer_top, i["Ripple Top Log"]))
+    above = g.math("MAXIMUM", g.math("SUBTRACT", g.math("MAXIMUM", footprint, held),
+                                     layer_top), 0.0)
+    slopes = g.math("MINIMUM", g.math("MULTIPLY_ADD", i["Layer Density"], above, g.math(
+        "MULTIPLY_ADD", i["Slope Density"], below, g.math(
+            "MULTIPLY_ADD", i["Ripple Slopes"], ripple_out, i["Slope Floor"]))),
+        i["Slope Ceiling"])
 
     # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos: seen from under water.
     c = g.math("ABSOLUTE", g.vector("DOT_PRODUCT", normal, geo["Incoming"]))
@@ -427,7 +467,9 @@ def update_godrays(mat, tile, lookup):
 
 def material():
     """A new water material of ours, for one ocean: the frame handler writes each ocean's own
-    shader inputs (detail, time, filtering) into its material (they share the node group)."""
+    shader inputs (detail, time, filtering) into its material (they share the node group), and
+    its slope layer's images (a group cannot take images: their texture nodes are the
+    material's)."""
     mat = bpy.data.materials.new(MATERIAL)
     mat[TAG] = True
     nodes = empty_tree(mat).nodes
@@ -438,7 +480,96 @@ def material():
     output.location = (300, 0)
     mat.node_tree.links.new(group.outputs["Shader"], output.inputs["Surface"])
     mat.use_backface_culling = False
+    _layer_nodes(mat.node_tree, group)
     return mat
+
+
+def _layer_nodes(tree, group):
+    """The slope layer's texture lookups feeding the group, added if missing (a material of an
+    older version gets them at its first frame): per band, its image at texel coordinates
+    S = a.(P - origin) + s0, T = b.(P - origin) + t0 (update_layer writes them), bilinear from
+    its four nearest texels sampled unfiltered (the shader cuts the slopes per pixel itself;
+    EEVEE's mip-mapped, anisotropic filtering makes renders on the CPU tens of times slower)."""
+    if tree.nodes.get("Layer Origin") is not None:
+        return
+    g = Graph(tree)
+    g.x = -1600
+    position = g.node("ShaderNodeNewGeometry").outputs["Position"]
+    near = g.vector("SUBTRACT", position, (0.0, 0.0, 0.0))
+    near.node.name = "Layer Origin"
+    for b in range(1, LAYER_BANDS + 1):
+        corners, fractions = [], []
+        for axis in ("S", "T"):
+            dot = g.vector("DOT_PRODUCT", near, (0.0, 0.0, 0.0))
+            dot.node.name = f"Layer {b} {axis}"
+            texel = g.math("ADD", dot, 0.0)
+            texel.node.name = f"Layer {b} {axis} Offset"
+            first = g.math("FLOOR", texel)
+            fractions.append(g.math("SUBTRACT", texel, first))
+            size = g.math("MULTIPLY", g.math("ADD", first, 0.5), 1.0)  # texel centre / texels
+            size.node.name = f"Layer {b} {axis} Texel"
+            step = g.math("ADD", size, 0.0)  # the next texel's centre
+            step.node.name = f"Layer {b} {axis} Step"
+            corners.append((size, step))
+        taps = []
+        for t in corners[1]:
+            for s_ in corners[0]:
+                tap = g.node("ShaderNodeTexImage", {"Vector": g.node("ShaderNodeCombineXYZ", {
+                    "X": s_, "Y": t}).outputs[0]}, interpolation="Closest", extension="REPEAT")
+                tap.name = f"Layer {b} Tap {len(taps)}"
+                taps.append(tap.outputs["Color"])
+        rows = [_mix_vector(g, fractions[0], taps[2 * r], taps[2 * r + 1]) for r in (0, 1)]
+        g.set(group.inputs[f"Layer Slopes {b}"], _mix_vector(g, fractions[1], *rows))
+
+
+def _mix_vector(g, factor, a, b):
+    node = g.node("ShaderNodeMix", {"Factor_Float": factor, "A_Vector": a, "B_Vector": b},
+                  data_type="VECTOR")
+    return socket(node.outputs, "Result_Vector")
+
+
+def update_layer(mat, slopes, lookups, origin):
+    """The slope layer's tiles (per band (2, n, n): the slopes along x and y) into the
+    material's own float images, and their lookups ((a, b, c) per band, texel coordinates
+    about `origin` (x, y): slope_layer.SlopeLayer.lookups) into its nodes. Images are written,
+    not packed, each frame (a pack costs 3 ms; the save handler packs them)."""
+    tree = mat.node_tree
+    group = tree.nodes.get(GROUP)
+    if group is None or group.type != "GROUP" or f"Layer Slopes {LAYER_BANDS}" not in group.inputs:
+        return
+    _layer_nodes(tree, group)
+    nodes = tree.nodes
+    assign(nodes["Layer Origin"].inputs[1], default_value=(float(origin[0]), float(origin[1]),
+                                                           0.0))
+    for b, (tile, (a, bb, c)) in enumerate(zip(slopes, lookups, strict=True), 1):
+        n = tile.shape[-1]
+        image = nodes[f"Layer {b} Tap 0"].image
+        if (image is None or not image.get(TAG) or tuple(image.size) != (n, n)
+                or image.users > 4 or image.library is not None):  # another material's
+            image = bpy.data.images.new(f"{LAYER_IMAGE} {b}", n, n, float_buffer=True,
+                                        is_data=True)
+            image[TAG] = True
+        for tap in range(4):
+            if nodes[f"Layer {b} Tap {tap}"].image != image:
+                nodes[f"Layer {b} Tap {tap}"].image = image
+        written = str(zlib.crc32(tile.tobytes()))  # unchanged (a redraw at the same time,
+        if image.get(LAYER_WRITTEN) != written:  # after a save): left clean, not rewritten
+            rgba = np.zeros((n, n, 4), dtype=np.float32)
+            rgba[..., 0], rgba[..., 1], rgba[..., 3] = tile[0], tile[1], 1.0
+            image.pixels.foreach_set(rgba.ravel())
+            image.update()
+            image[LAYER_WRITTEN] = written
+        for axis, row, start in (("S", a, c[0]), ("T", bb, c[1])):
+            assign(nodes[f"Layer {b} {axis}"].inputs[1], default_value=tuple(row))
+            assign(nodes[f"Layer {b} {axis} Offset"].inputs[1], default_value=float(start))
+            assign(nodes[f"Layer {b} {axis} Texel"].inputs[1], default_value=1.0 / n)
+            assign(nodes[f"Layer {b} {axis} Step"].inputs[1], default_value=1.0 / n)
+
+
+def layer_images():
+    """Our slope layer images (the save handler packs them)."""
+    return [image for image in bpy.data.images
+            if image.get(TAG) and image.name.startswith(LAYER_IMAGE) and image.library is None]
 
 
 def own_material(mesh):
@@ -477,14 +608,15 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0):
+           foam_coverage=0.0, layer=()):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
     included), so an animation writes nothing per frame; the filtering of the waves too short
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
     (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
-    where a pixel outgrows a whitecap."""
+    where a pixel outgrows a whitecap; the slope layer's bands ((level, top log, bottom log)
+    each; none: no layer)."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -505,8 +637,13 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
-        "Left Out Log": filtering.left_out_log,
+        "Left Out Log": filtering.left_out_log, "Layer Top Log": filtering.layer_top_log,
+        "Layer Density": filtering.layer_density,
         "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
+    for b in range(1, LAYER_BANDS + 1):
+        level, top, bottom = layer[b - 1] if b <= len(layer) else (-100.0, 0.0, -1.0)
+        values.update({f"Layer Level {b}": level, f"Layer Top Log {b}": top,
+                       f"Layer Bottom Log {b}": bottom})
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

@@ -140,6 +140,10 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                    if on["godrays"] else None)
         detail = hf.shader_detail(*result.shader_octaves)
         ripple, _ = hf.ripple()
+        layer_origin = np.round(cam.position[:2])
+        layer = (None if hf.layer is None else
+                 (hf.layer.slopes(t), hf.layer.lookups(layer_origin),
+                  [(b.level, b.top_log, b.bottom_log) for b in hf.layer.bands]))
         filtering = shading.filtering(cam.proj, shot.render_size(the_scene)[0], hf.slopes,
                                       settings.wind_speed)
     except ValueError as e:
@@ -173,7 +177,10 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
                      ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
                      settings.wind_direction,
-                     effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0)
+                     effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0,
+                     layer[2] if layer is not None else ())
+        if layer is not None:
+            water.update_layer(material, layer[0], layer[1], layer_origin)
     if making:
         if restructured:
             companions.ensure_companions(surface)

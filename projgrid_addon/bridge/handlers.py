@@ -12,6 +12,7 @@ empty, so a file linking this one's ocean draws it only by its own stand-in.
 import bpy
 from bpy.app.handlers import persistent
 
+from ...shaders import water
 from . import companions, frame, scene
 from .state import RUNTIME
 
@@ -145,6 +146,9 @@ def save_pre(*_):
                 and scene.local(obj) and scene.owns(obj.data) and scene.local(obj.data)
                 and not obj.data.is_editmode):
             companions.empty_for_save(obj)
+    for image in water.layer_images():  # written each frame, not packed: packed once here
+        if image.is_dirty:
+            image.pack()
 
 
 @persistent

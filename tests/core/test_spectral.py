@@ -4,7 +4,15 @@ Pierson-Moskowitz, Monahan), and both height sources' travel with the wind."""
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, band_limit, effects, shading, spectral_field, spectrum
+from projgrid_addon import (
+    HeightField,
+    band_limit,
+    effects,
+    shading,
+    slope_layer,
+    spectral_field,
+    spectrum,
+)
 from projgrid_addon.camera import look_at, orthographic, perspective
 from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SHARE_PER_TILE, SpectralField
@@ -280,7 +288,8 @@ def spectrum_slopes(state, shortest, longest=2e4, samples=20_000):
 @pytest.mark.parametrize("u", [3.0, 6.0, 10.0, 15.0, 20.0])
 def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     """At every distance the slope variance drawn (the geometry's bands, each by its band-limit
-    weight squared, above the footprint; the ripples' bump as drawn) plus the roughness of the
+    weight squared, above the footprint, the slope layer's bands whole above it; the ripples'
+    bump as drawn) plus the roughness of the
     rest is Cox and Munk's 0.003 + 5.12e-3 U(12.5 m) within 20 %, U(12.5 m) from U(10 m) by the
     log profile: on a grid one or four pixels a vertex, and with every band whole."""
     state = SeaState(wind_speed=u)
@@ -291,6 +300,7 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     ripple = source.slopes.ripple
     cox_munk = 0.003 + 5.12e-3 * u * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
     levels = [spectral_field.band_level(shortest) for shortest, _ in spectral_field.bands()]
+    layer_top = spectral_field.bands()[spectral_field.LAYER_FIRST][1]
     for d in (1.0, 10.0, 100.0, 1e3, 1e4):
         for cos in (1.0, 0.05):
             lp = float(np.exp(shading.footprint_log(f, d, cos)))
@@ -301,6 +311,8 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
                                                       strict=True):
                     if longest > lp:
                         weight = np.clip(lod - level, 0.0, 1.0)
+                        if shortest < layer_top:  # the slope layer draws what they leave
+                            weight = 1.0
                         drawn += weight**2 * spectrum_slopes(
                             state, max(shortest, lp),
                             longest if level > levels[0] else 2e4)
@@ -379,3 +391,59 @@ def test_a_frame_s_folding_spreads_as_the_calibration_s():
             assert mesh[inside].std() == pytest.approx(apart[inside].std(), rel=0.1), low
             compared += 1
     assert compared >= 3
+
+
+@pytest.mark.parametrize("u", [5.0, 12.0])
+def test_the_slope_layer_holds_each_band_s_slopes(u):
+    """Each band of the slope layer holds the spectrum's slope variance over the band (the
+    integral of k^2 S) within 3 %, its tile as the spectrum says and as sampled, and its
+    slopes are the gradient of its own height field."""
+    state = SeaState(wind_speed=u)
+    layer = SpectralField(state, seed=4).layer
+    want = [spectrum_slopes(state, shortest, longest)
+            for shortest, longest in spectral_field.bands()[slope_layer.LAYER_FIRST:]]
+    assert layer.slope_variance() == pytest.approx(want, rel=0.03)
+    drawn = [float(tile.var(axis=(1, 2)).sum()) for tile in layer.slopes(7.0)]
+    assert drawn == pytest.approx(want, rel=0.1)
+    cascade = layer.cascades[0]
+    real = cascade.samples(7.0, 0.0, (0, 3, 4))
+    n, step = cascade.texels, cascade.size / cascade.texels
+    # along the tile's own axes: x' = (cos, sin), y' = (-sin, cos)
+    c, s = cascade.turn
+    along = (np.roll(real[0], -1, axis=1) - np.roll(real[0], 1, axis=1)) / (2.0 * step)
+    slope = c * real[3] + s * real[4]
+    assert np.corrcoef(along.ravel(), slope.ravel())[0, 1] > 0.95
+    assert n == slope_layer.LAYER_TEXELS
+
+
+def test_the_slope_layer_s_lookups_find_its_texels():
+    """A texel's point on the sea is at that texel's coordinates (the shader's lookup), from
+    any origin."""
+    layer = SpectralField(SeaState(wind_speed=9.0), seed=1).layer
+    for cascade, (a, b, c) in zip(layer.cascades, layer.lookups((1234.0, -5678.0)),
+                                  strict=True):
+        i, j = 5, 17
+        step = cascade.size / cascade.texels
+        cos, sin = cascade.turn
+        p = np.array([(i * cos - j * sin) * step, (i * sin + j * cos) * step, 0.0])
+        p += cascade.size * np.array([cos * 3 - sin * 7, sin * 3 + cos * 7, 0.0])  # a repeat
+        near = p - (1234.0, -5678.0, 0.0)
+        s = (np.dot(a, near) + c[0]) % cascade.texels
+        t = (np.dot(b, near) + c[1]) % cascade.texels
+        assert (s, t) == pytest.approx((i, j), abs=1e-6)
+
+
+def test_the_slope_layer_keeps_a_band_s_slopes_through_the_hand_over():
+    """Where the vertices hold a band in part (weight g) and a pixel shows all of it, the
+    geometry's g^2 and the layer's gain^2 add up to the whole band; past the footprint the
+    layer keeps only the share of its waves still longer than it, and where the vertices hold
+    the band whole it draws nothing."""
+    band = SpectralField(SeaState(wind_speed=9.0)).layer.bands[0]
+    lods = band.level + np.linspace(-1.0, 2.0, 31)
+    g = np.clip(lods - band.level, 0.0, 1.0)
+    gain = shading.layer_gain(band, lods, band.bottom_log - 1.0)
+    assert g**2 + gain**2 == pytest.approx(1.0)
+    middle = 0.5 * (band.top_log + band.bottom_log)
+    assert shading.layer_gain(band, band.level - 1.0, middle) ** 2 == pytest.approx(0.5)
+    assert shading.layer_gain(band, band.level - 1.0, band.top_log + 0.1) == 0.0
+    assert shading.layer_gain(band, band.level + 1.0, band.bottom_log - 1.0) == 0.0
