@@ -33,10 +33,12 @@ def noise_fac_std(detail, roughness):
 
 @dataclass(frozen=True)
 class Detail:
-    """The left-out octaves as the shader's fractal noise: its first octave, frequency (1/m),
-    further octaves, roughness, height (m), and its time coordinate per second."""
+    """The left-out octaves as the shader's fractal noise: the band limit from which the
+    vertices hold its first octave (faded in until one more; for the noise its index),
+    frequency (1/m), further octaves, roughness, height (m), and its time coordinate per
+    second."""
 
-    first: int
+    first: float
     scale: float
     octaves: float
     roughness: float
@@ -149,9 +151,9 @@ class Filtering:
     shortest_log: float
     ripple_top_log: float
     ceiling: float
+    layer_top_log: float
+    layer_density: float
     left_out_log: float = NOT_LEFT_OUT
-    layer_top_log: float = -100.0
-    layer_density: float = 0.0
 
 
 def pixel_footprint(proj, width):

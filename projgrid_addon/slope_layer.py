@@ -50,6 +50,7 @@ class SlopeLayer:
     shader's texture coordinates, `bands` for its weights."""
 
     def __init__(self, state, seed):
+        self._made = None
         self.cascades = []
         for b in range(LAYER_FIRST, BANDS):
             shortest, longest = bands()[b]
@@ -65,12 +66,15 @@ class SlopeLayer:
 
     def slopes(self, t):
         """Per band, (2, LAYER_TEXELS, LAYER_TEXELS) float32: the slope of the height along
-        world x and y at time t, row y, column x of the band's turned tile."""
-        out = []
-        for cascade in self.cascades:
-            real = cascade.samples(t, 0.0, SLOPES)
-            out.append(np.stack([real[SLOPES[0]], real[SLOPES[1]]]))
-        return out
+        world x and y at time t, row y, column x of the band's turned tile (made once per
+        time: a camera moving over a still frame reuses them)."""
+        if self._made is None or self._made[0] != t:
+            out = []
+            for cascade in self.cascades:
+                real = cascade.samples(t, 0.0, SLOPES)
+                out.append(np.stack([real[SLOPES[0]], real[SLOPES[1]]]))
+            self._made = (t, out)
+        return self._made[1]
 
     def lookups(self, origin):
         """Per band, (a, b, c): a point P on the sea is at texel coordinates

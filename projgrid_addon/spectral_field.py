@@ -334,7 +334,7 @@ class SpectralField:
                                   height=0.0, time_rate=0.0)
         longest = bands()[first][1]
         sigma = np.sqrt(self._m0 * sum(self._shares[first:first + count]))
-        return shading.Detail(first=int(first), scale=1.0 / longest,
+        return shading.Detail(first=band_level(bands()[first][0]), scale=1.0 / longest,
                               octaves=float(2 * count - 1), roughness=0.5,
                               height=float(sigma / shading.noise_fac_std(2 * count - 1, 0.5)),
                               time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * longest))))

@@ -112,7 +112,9 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
 )
 LAYER_BANDS = 3
 LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own images
-LAYER_WRITTEN = "projgrid_tile"  # on a layer image: a checksum of the tile it holds
+# This session's layer images: {image session_uid: (owning material's session_uid, checksum
+# of the tile written)}. Not saved: a reopened file's images are claimed and written anew.
+_LAYER_WRITTEN = {}
 
 
 def node_group():
@@ -544,21 +546,23 @@ def update_layer(mat, slopes, lookups, origin):
     for b, (tile, (a, bb, c)) in enumerate(zip(slopes, lookups, strict=True), 1):
         n = tile.shape[-1]
         image = nodes[f"Layer {b} Tap 0"].image
+        owner = _LAYER_WRITTEN.get(image.session_uid)[0] if image is not None and (
+            image.session_uid in _LAYER_WRITTEN) else mat.session_uid
         if (image is None or not image.get(TAG) or tuple(image.size) != (n, n)
-                or image.users > 4 or image.library is not None):  # another material's
+                or owner != mat.session_uid or image.library is not None):  # another's
             image = bpy.data.images.new(f"{LAYER_IMAGE} {b}", n, n, float_buffer=True,
                                         is_data=True)
             image[TAG] = True
         for tap in range(4):
             if nodes[f"Layer {b} Tap {tap}"].image != image:
                 nodes[f"Layer {b} Tap {tap}"].image = image
-        written = str(zlib.crc32(tile.tobytes()))  # unchanged (a redraw at the same time,
-        if image.get(LAYER_WRITTEN) != written:  # after a save): left clean, not rewritten
+        written = zlib.crc32(tile.tobytes())  # unchanged (a redraw at the same time, after a
+        if _LAYER_WRITTEN.get(image.session_uid) != (mat.session_uid, written):  # save): clean
             rgba = np.zeros((n, n, 4), dtype=np.float32)
             rgba[..., 0], rgba[..., 1], rgba[..., 3] = tile[0], tile[1], 1.0
             image.pixels.foreach_set(rgba.ravel())
             image.update()
-            image[LAYER_WRITTEN] = written
+            _LAYER_WRITTEN[image.session_uid] = (mat.session_uid, written)
         for axis, row, start in (("S", a, c[0]), ("T", bb, c[1])):
             assign(nodes[f"Layer {b} {axis}"].inputs[1], default_value=tuple(row))
             assign(nodes[f"Layer {b} {axis} Offset"].inputs[1], default_value=float(start))
@@ -567,7 +571,8 @@ def update_layer(mat, slopes, lookups, origin):
 
 
 def layer_images():
-    """Our slope layer images (the save handler packs them)."""
+    """Our slope layer images (the save and render-done handlers pack them: written, not
+    packed, each frame, they would be offered as 'modified images' at closing)."""
     return [image for image in bpy.data.images
             if image.get(TAG) and image.name.startswith(LAYER_IMAGE) and image.library is None]
 

@@ -298,7 +298,8 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
 def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, extension,
                                                                    tmp_path):
     """Each ocean's material samples its own images of the slope layer, holding the core's
-    tiles of the frame; the save packs them (nothing left 'modified'); the noise draws none."""
+    tiles of the frame (slopes along x and y); the save packs them (nothing left 'modified');
+    the noise draws none."""
     water = extension.shaders.water
     scene = bpy.context.scene
 
@@ -311,19 +312,23 @@ def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, 
     scene.frame_set(7)
     ours, theirs = images(sea), images(other)
     assert all(i is not None for i in ours + theirs) and not set(ours) & set(theirs)
-    layer = bridge.scene.height_field(sea.projgrid).layer
     t = 7 / scene.render.fps
-    for image, tile in zip(ours, layer.slopes(t), strict=True):
-        pixels = np.empty(len(image.pixels), np.float32)
-        image.pixels.foreach_get(pixels)
-        assert np.allclose(pixels.reshape(*tile.shape[1:], 4)[..., 0], tile[0], atol=1e-6)
+    for obj, drawn in ((sea, ours), (other, theirs)):
+        layer = bridge.scene.height_field(obj.projgrid).layer
+        for image, tile in zip(drawn, layer.slopes(t), strict=True):
+            pixels = np.empty(len(image.pixels), np.float32)
+            image.pixels.foreach_get(pixels)
+            pixels = pixels.reshape(*tile.shape[1:], 4)
+            assert np.allclose(pixels[..., :2], np.moveaxis(tile, 0, -1), atol=1e-6)
+            assert np.std(tile) > 1e-3
     before = np.array(ours[0].pixels[:64])
     scene.frame_set(8)
     assert not np.allclose(np.array(ours[0].pixels[:64]), before)  # the band travels
     group = sea.data.materials[0].node_tree.nodes[water.GROUP]
     assert group.inputs["Layer Level 1"].default_value == pytest.approx(layer.bands[0].level)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "layer.blend"))
-    assert not any(i.is_dirty for i in water.layer_images())
+    assert all(i.packed_file is not None and not i.is_dirty for i in water.layer_images())
     sea.projgrid.height_source = "PERLIN"
     scene.frame_set(9)
-    assert group.inputs["Layer Level 1"].default_value < -50.0  # the noise: no layer
+    # the noise: no layer (its bands' gain sqrt(1 - g^2) is 0 where g = clip(lod - level) = 1)
+    assert all(group.inputs[f"Layer Level {b}"].default_value < -50.0 for b in (1, 2, 3))

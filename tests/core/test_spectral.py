@@ -405,15 +405,15 @@ def test_the_slope_layer_holds_each_band_s_slopes(u):
     assert layer.slope_variance() == pytest.approx(want, rel=0.03)
     drawn = [float(tile.var(axis=(1, 2)).sum()) for tile in layer.slopes(7.0)]
     assert drawn == pytest.approx(want, rel=0.1)
-    cascade = layer.cascades[0]
-    real = cascade.samples(7.0, 0.0, (0, 3, 4))
-    n, step = cascade.texels, cascade.size / cascade.texels
-    # along the tile's own axes: x' = (cos, sin), y' = (-sin, cos)
-    c, s = cascade.turn
-    along = (np.roll(real[0], -1, axis=1) - np.roll(real[0], 1, axis=1)) / (2.0 * step)
-    slope = c * real[3] + s * real[4]
-    assert np.corrcoef(along.ravel(), slope.ravel())[0, 1] > 0.95
-    assert n == slope_layer.LAYER_TEXELS
+    for cascade in layer.cascades:
+        real = cascade.samples(7.0, 0.0, (0, 3, 4))
+        step = cascade.size / cascade.texels
+        c, s = cascade.turn  # the tile's axes on the sea: x' = (c, s), y' = (-s, c)
+        for axis, (ux, uy) in ((1, (c, s)), (0, (-s, c))):
+            along = (np.roll(real[0], -1, axis=axis) - np.roll(real[0], 1, axis=axis)) / (
+                2.0 * step)
+            slope = ux * real[3] + uy * real[4]
+            assert np.corrcoef(along.ravel(), slope.ravel())[0, 1] > 0.99
 
 
 def test_the_slope_layer_s_lookups_find_its_texels():
@@ -447,3 +447,19 @@ def test_the_slope_layer_keeps_a_band_s_slopes_through_the_hand_over():
     assert shading.layer_gain(band, band.level - 1.0, middle) ** 2 == pytest.approx(0.5)
     assert shading.layer_gain(band, band.level - 1.0, band.top_log + 0.1) == 0.0
     assert shading.layer_gain(band, band.level + 1.0, band.bottom_log - 1.0) == 0.0
+
+
+def test_the_detail_noise_draws_only_the_bands_above_the_layer():
+    """The shader's noise detail stands for the left-out bands the slope layer does not draw,
+    as high as their share of the sea, faded in from the band limit of its first band."""
+    source = SpectralField(SeaState(wind_speed=15.0))
+    first = 1
+    detail = source.shader_detail(first, spectral_field.BANDS - first)
+    bands_in = slope_layer.LAYER_FIRST - first
+    assert detail.octaves == 2 * bands_in - 1
+    assert detail.first == spectral_field.band_level(spectral_field.bands()[first][0])
+    shares = spectral_field.band_shares(source.state)
+    sigma = detail.height * shading.noise_fac_std(detail.octaves, detail.roughness)
+    m0 = spectrum.moments(source.state)[0]
+    assert sigma**2 == pytest.approx(m0 * sum(shares[first:slope_layer.LAYER_FIRST]), rel=1e-6)
+    assert source.shader_detail(slope_layer.LAYER_FIRST, 3).height == 0.0
