@@ -150,6 +150,12 @@ def save_pre(*_):
     pack_layer_images()
 
 
+@persistent
+def playback_done(*_):
+    """Playback wrote the layer's images each frame: packed once it stops."""
+    pack_layer_images()
+
+
 def pack_layer_images():
     """Our slope layer images, written each frame and not packed (3 ms each), packed once."""
     for image in water.layer_images():
@@ -177,6 +183,7 @@ HANDLERS = (
     ("undo_post", undo_redo),
     ("redo_post", undo_redo),
     ("save_pre", save_pre),
+    ("animation_playback_post", playback_done),
     ("save_post", save_post),
 )
 

@@ -298,8 +298,8 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
 def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, extension,
                                                                    tmp_path):
     """Each ocean's material samples its own images of the slope layer, holding the core's
-    tiles of the frame (slopes along x and y); the save packs them (nothing left 'modified');
-    the noise draws none."""
+    tiles of the frame (slopes along x and y); the end of playback and a save pack them
+    (nothing left 'modified'); the noise draws none."""
     water = extension.shaders.water
     scene = bpy.context.scene
 
@@ -326,6 +326,10 @@ def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, 
     assert not np.allclose(np.array(ours[0].pixels[:64]), before)  # the band travels
     group = sea.data.materials[0].node_tree.nodes[water.GROUP]
     assert group.inputs["Layer Level 1"].default_value == pytest.approx(layer.bands[0].level)
+    assert any(i.is_dirty for i in water.layer_images())
+    bridge.handlers.playback_done()  # as when playback stops
+    assert not any(i.is_dirty for i in water.layer_images())
+    scene.frame_set(10)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "layer.blend"))
     assert all(i.packed_file is not None and not i.is_dirty for i in water.layer_images())
     sea.projgrid.height_source = "PERLIN"
