@@ -29,6 +29,7 @@ from .spectral_field import (
     bands,
     tile_phases,
 )
+from .tiles import turned_texel
 
 LAYER_TEXELS = 128
 LAYER_TILE = 100  # the phases' tile index: no geometry tile's
@@ -82,11 +83,11 @@ class SlopeLayer:
         (i, j), the tile LAYER_TEXELS across), `origin` (x, y) near the camera so the
         shader's single precision is spent near it."""
         out = []
-        x0, y0 = float(origin[0]), float(origin[1])
         for c in self.cascades:
-            cos, sin = c.turn[0] * c.texels / c.size, c.turn[1] * c.texels / c.size
-            start = ((x0 * cos + y0 * sin) % c.texels, (y0 * cos - x0 * sin) % c.texels)
-            out.append(((cos, sin, 0.0), (-sin, cos, 0.0), start))
+            scale = c.texels / c.size
+            cos, sin = c.turn[0] * scale, c.turn[1] * scale
+            out.append(((cos, sin, 0.0), (-sin, cos, 0.0),
+                        turned_texel(origin, c.turn, scale, c.texels)))
         return out
 
     def slope_variance(self):

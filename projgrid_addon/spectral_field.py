@@ -159,10 +159,14 @@ class Cascade:
         self.empty = not np.any(energy > 0.0)
         self._factors = {}
 
+    def power(self):
+        """|h0(k)|^2 + |h0(-k)|^2 per wave vector of the lattice: its mean power."""
+        return np.abs(self.h0) ** 2 + np.abs(self.h0_neg_conj) ** 2
+
     def half_power(self):
         """|h0(k)|^2 + |h0(-k)|^2 over the half lattice the transforms use, each column but
         the first and the last counted twice: it stands for its mirror too."""
-        power = np.abs(self._h0) ** 2 + np.abs(self._h0_neg_conj) ** 2
+        power = self.power()[:, :self.texels // 2 + 1]
         twice = np.full(power.shape[1], 2.0)
         twice[0] = twice[-1] = 1.0
         return power * twice
@@ -261,8 +265,7 @@ class SpectralField:
         """(standard deviation of the height, root mean square of the choppy displacement), m:
         each wave vector's mean power |h0(k)|^2 + |h0(-k)|^2 summed (Parseval), the same at
         every time; the displacement's is lambda times the height's (|k / |k|| = 1)."""
-        power = sum(float(np.sum(np.abs(c.h0) ** 2 + np.abs(c.h0_neg_conj) ** 2))
-                    for c in self.cascades)
+        power = sum(float(np.sum(c.power())) for c in self.cascades)
         return float(np.sqrt(power)), float(self.choppiness * np.sqrt(power))
 
     def autocorrelation(self, lags, fine=4):
@@ -278,7 +281,7 @@ class SpectralField:
             n = c.texels * fine
             power = np.zeros((n, n))
             at = np.fft.fftfreq(c.texels, 1.0 / c.texels).astype(int) % n
-            power[np.ix_(at, at)] = np.abs(c.h0) ** 2 + np.abs(c.h0_neg_conj) ** 2
+            power[np.ix_(at, at)] = c.power()
             acf = np.fft.ifft2(power, norm="forward").real.astype(np.float32)
             out += Lookup.turned(n, offsets, (0.0, 0.0), n / c.size, c.turn,
                                  "acf").sample(periodic_patches(acf))

@@ -35,6 +35,15 @@ def periodic_patches(tile):
     return patches(closed)
 
 
+def turned_texel(point, turn, scale, size):
+    """The texel coordinates (s, t) of a point (x, y) in a periodic texture `size` texels across
+    at `scale` texels per unit, turned by `turn` (cos, sin) on the plane, reduced by its period
+    (in double precision: the point may be far away)."""
+    x, y = float(point[0]), float(point[1])
+    c, sn = turn[0] * scale, turn[1] * scale
+    return (x * c + y * sn) % size, (y * c - x * sn) % size
+
+
 class Lookup:
     """Where points xy (2, ...), less `shift`, fall in a periodic texture `size` texels across
     at `scale` texels per unit: each point's texel and its fractions. Its arrays are scratch
@@ -59,8 +68,7 @@ class Lookup:
         thousand texels of the camera, where the float32 error is below 1e-3 texel)."""
         self = cls.__new__(cls)
         c, sn = turn[0] * scale, turn[1] * scale
-        x0, y0 = float(origin[0]), float(origin[1])
-        start = ((x0 * c + y0 * sn) % size, (y0 * c - x0 * sn) % size)
+        start = turned_texel(origin, turn, scale, size)
         s = scratch("s32" + tag, offsets.shape, np.float32)
         across = scratch("across" + tag, offsets.shape[1:], np.float32)
         c, sn = np.float32(c), np.float32(sn)
@@ -76,7 +84,7 @@ class Lookup:
     def _locate(self, size, s, tag):
         """Texel index and fractions of texel coordinates s (2, ...), which it overwrites."""
         self.shape = shape = s.shape[1:]
-        cell = scratch("cell" + tag + s.dtype.char, s.shape, s.dtype)
+        cell = scratch("cell" + tag, s.shape, s.dtype)
         np.floor(s, out=cell)
         ij = scratch("ij" + tag, s.shape, np.int32 if s.dtype == np.float32 else np.int64)
         np.copyto(ij, cell, casting="unsafe")

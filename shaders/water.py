@@ -508,11 +508,11 @@ def _layer_nodes(tree, group):
             texel.node.name = f"Layer {b} {axis} Offset"
             first = g.math("FLOOR", texel)
             fractions.append(g.math("SUBTRACT", texel, first))
-            size = g.math("MULTIPLY", g.math("ADD", first, 0.5), 1.0)  # texel centre / texels
-            size.node.name = f"Layer {b} {axis} Texel"
-            step = g.math("ADD", size, 0.0)  # the next texel's centre
+            centre = g.math("MULTIPLY", g.math("ADD", first, 0.5), 1.0)  # / texels across
+            centre.node.name = f"Layer {b} {axis} Texel"
+            step = g.math("ADD", centre, 0.0)  # the next texel's centre
             step.node.name = f"Layer {b} {axis} Step"
-            corners.append((size, step))
+            corners.append((centre, step))
         taps = []
         for t in corners[1]:
             for s_ in corners[0]:
@@ -546,10 +546,10 @@ def update_layer(mat, slopes, lookups, origin):
     for b, (tile, (a, bb, c)) in enumerate(zip(slopes, lookups, strict=True), 1):
         n = tile.shape[-1]
         image = nodes[f"Layer {b} Tap 0"].image
-        owner = _LAYER_WRITTEN.get(image.session_uid)[0] if image is not None and (
-            image.session_uid in _LAYER_WRITTEN) else mat.session_uid
+        entry = _LAYER_WRITTEN.get(image.session_uid) if image is not None else None
         if (image is None or not image.get(TAG) or tuple(image.size) != (n, n)
-                or owner != mat.session_uid or image.library is not None):  # another's
+                or (entry and entry[0] != mat.session_uid)  # another material's
+                or image.library is not None):
             image = bpy.data.images.new(f"{LAYER_IMAGE} {b}", n, n, float_buffer=True,
                                         is_data=True)
             image[TAG] = True

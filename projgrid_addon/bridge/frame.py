@@ -140,8 +140,9 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                    if on["godrays"] else None)
         detail = hf.shader_detail(*result.shader_octaves)
         ripple, _ = hf.ripple()
+        material = water.material_of(surface.data)
         layer_origin = np.round(cam.position[:2])
-        layer = (None if hf.layer is None else
+        layer = (None if hf.layer is None or material is None else  # the user's: no layer
                  (hf.layer.slopes(t), hf.layer.lookups(layer_origin),
                   [(b.level, b.top_log, b.bottom_log) for b in hf.layer.bands]))
         filtering = shading.filtering(cam.proj, shot.render_size(the_scene)[0], hf.slopes,
@@ -172,7 +173,6 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     state.camera = (cam.view, cam.proj)
     state.warning = flat_warning(hf, result, settings)
     in_use = effects_in_use()
-    material = water.material_of(surface.data)
     if material is not None:
         water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
                      ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
