@@ -524,8 +524,9 @@ def _sea(report):
         "tiles' Hermitian half-lattice (was two complex transforms of the whole lattice) and "
         "texel coordinates in single precision from a nearby origin took the core frame from "
         "29 to 26 ms (1.29 × to 1.11 ×); the slope layer's three tiles and images add about "
-        "1.5 ms (1.17 ×). Threads over tiles and rows gained 5 % (NumPy's pieces are too "
-        "small to share two cores) and were left out; the per-second foam calibration "
+        "1.5 ms (runs at fae0e46 and 4787275 measured 1.17 × and 1.04 ×: this VM's load "
+        "moves the ratio that much). Threads over tiles and rows gained 5 % (NumPy's pieces "
+        "are too small to share two cores) and were left out; the per-second foam calibration "
         "(0.15 s) is a median's outlier, a hitch once a second in playback."))
 
 
