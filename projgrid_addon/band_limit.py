@@ -43,6 +43,62 @@ def row_jobs(lod2, level):
     return rows, bool(lod2[rows].min() < level + 1)
 
 
+# Levels above its fade-in from which a band is sampled on every other row and column of a grid
+# and interpolated between (`row_parts`, `fill_every_other`): its shortest wave then spans at
+# least 64 vertex spacings, so linear interpolation over two spacings loses at most
+# (2 pi / 32)^2 / 8 = 0.5 % of that wave's height, and less of the band's longer waves.
+COARSE = 5
+COARSE_MIN = 5  # rows (and columns) a grid needs before the coarse sampling pays
+
+
+def row_parts(lod2, row_min, level, rows, weighted):
+    """The job `rows` of a band at `level` (row_jobs) on a grid, split: (fine, coarse), fine a
+    list of (rows, weighted) sampled at every vertex, coarse the longest run of rows in which
+    every vertex keeps the band COARSE levels above its fade-in (None if shorter than
+    COARSE_MIN rows or columns), sampled on every other row and column."""
+    if lod2.shape[1] < COARSE_MIN:
+        return [(rows, weighted)], None
+    flags = row_min[rows] >= level + COARSE
+    if flags.sum() < COARSE_MIN:
+        return [(rows, weighted)], None
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], flags.view(np.int8), [0]))))
+    runs = edges.reshape(-1, 2)
+    a, b = runs[np.argmax(runs[:, 1] - runs[:, 0])]
+    if b - a < COARSE_MIN:
+        return [(rows, weighted)], None
+    start = rows.start or 0
+    fine = [(part, bool(row_min[part].min() < level + 1))
+            for part in (slice(start, start + a), slice(start + b, rows.stop))
+            if part.stop > part.start]
+    return fine, slice(start + a, start + b)
+
+
+def every_other(n):
+    """The indices 0, 2, 4, ... of n, and n - 1: the coarse samples of `fill_every_other`."""
+    return np.r_[0:n:2, n - 1] if n % 2 == 0 else np.arange(0, n, 2)
+
+
+def fill_every_other(coarse, out):
+    """Values at every_other(rows) x every_other(columns) of `out` (rows, columns) spread into
+    all of it, each point between two samples their mean (linear interpolation on the grid)."""
+    rows, cols = out.shape
+    r2, c2 = (rows + 1) // 2, (cols + 1) // 2
+    out[0::2, 0::2] = coarse[:r2, :c2]
+    if cols % 2 == 0:
+        out[0::2, -1] = coarse[:r2, -1]
+    if rows % 2 == 0:
+        out[-1, 0::2] = coarse[-1, :c2]
+        if cols % 2 == 0:
+            out[-1, -1] = coarse[-1, -1]
+    mid = out[:, 1:cols - 1:2]
+    np.add(out[:, 0:cols - 2:2], out[:, 2:cols:2], out=mid)
+    mid *= 0.5
+    mid = out[1:rows - 1:2]
+    np.add(out[0:rows - 2:2], out[2:rows:2], out=mid)
+    mid *= 0.5
+    return out
+
+
 def lod_for_spacing(wave_scale, spacing):
     """The level of detail of a grid `spacing` metres apart (a world grid's, for comparison)."""
     return np.log2(wave_scale / (2.0 * np.asarray(spacing, dtype=np.float64)))

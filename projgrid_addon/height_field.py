@@ -290,9 +290,11 @@ class HeightField:
         """`heights` at a (2, ...) array of x and y, as the grid builds them."""
         return self._evaluate(xy, t, lod, False)[0]
 
-    def displacement(self, xy, t, lod=None):
+    def displacement(self, xy, t, lod=None, on_grid=False):
         """(h, (dx, dy) or None) at a (2, ...) array of x and y: the height and, with
-        choppiness, the horizontal displacement toward the crests."""
+        choppiness, the horizontal displacement toward the crests. (`on_grid`, that xy are a
+        grid's vertices, is for the spectral source's long bands: each octave here is sampled
+        at every vertex.)"""
         return self._evaluate(xy, t, lod, self.choppiness > 0.0)
 
     def _evaluate(self, xy, t, lod, choppy):

@@ -199,7 +199,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
 
     `height_field` is a height source (HeightField, SpectralField): prepared for `time`, it
     gives its vertical `bound`, the `horizontal_bound` of its choppy displacement, their
-    standard deviations (`spread`), and `displacement(xy, time, lod)`. With a displacement
+    standard deviations (`spread`), and `displacement(xy, time, lod, on_grid)`. With a displacement
     sideways, V_visible on S_base is widened by its bound, so the displaced grid still covers the
     screen.
 
@@ -342,7 +342,7 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
             xy[k, rows] /= hw
         if band_limit:
             lod_from_w(steps, rows, hw, lod[rows])
-    h, d = hf.displacement(xy, time, lod)
+    h, d = hf.displacement(xy, time, lod, on_grid=True)
     base = None
     if d is not None:
         base = xy

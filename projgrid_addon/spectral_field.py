@@ -34,7 +34,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from . import shading, spectrum
-from .band_limit import octave_weights, row_jobs
+from .band_limit import every_other, fill_every_other, octave_weights, row_jobs, row_parts
 from .projected_grid import grid_derivative
 from .scratch import CHUNK, scratch
 from .tiles import Lookup, periodic_patches
@@ -414,10 +414,12 @@ class SpectralField:
     def horizontal_bound(self):
         return self._side if self._prepared is not None else 0.0
 
-    def sample(self, xy, t, lod=None, fields=(0,)):
+    def sample(self, xy, t, lod=None, fields=(0,), on_grid=False):
         """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
         each band weighted by the band limit (`lod`, as the grid gives it, or None): a
-        (len(fields), ...) float64 array."""
+        (len(fields), ...) float64 array. `on_grid`: xy (2, rows, columns) are a grid's
+        vertices, neighbours along both axes, so a band long against the spacing is sampled
+        on every other row and column and interpolated between (band_limit.COARSE)."""
         self.prepare(t, fields)
         xy = np.asarray(xy, dtype=np.float64)
         shape = xy.shape[1:]
@@ -425,6 +427,7 @@ class SpectralField:
         out = np.zeros((len(fields),) + shape)
         xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(fields),) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
+        on_grid = on_grid and lod2 is not None and len(shape) == 2
         step = max(1, CHUNK // out2.shape[-1])
         for start in range(0, out2.shape[1], step):
             band = slice(start, start + step)
@@ -432,7 +435,7 @@ class SpectralField:
             offsets = scratch("offsets", xy2[:, band].shape, np.float32)
             np.subtract(xy2[:, band], origin[:, None, None], out=offsets, casting="same_kind")
             self._sum(origin, offsets, None if lod2 is None else lod2[band], fields,
-                      out2[:, band])
+                      out2[:, band], on_grid)
         return out
 
     @staticmethod
@@ -445,31 +448,57 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, origin, offsets, lod, fields, out):
-        for cascade, level, textures in zip(self.cascades, self.levels, self.textures,
-                                            strict=True):
+    def _sum(self, origin, offsets, lod, fields, out, on_grid):
+        """Add the bands' `fields` at origin + offsets into `out`, band by band (a band's
+        tiles are consecutive and share its level, so its rows and its coarse part)."""
+        row_min = lod.min(axis=1) if on_grid else None
+        first = 0
+        while first < len(self.cascades):
+            level = self.levels[first]
+            last = first + self.levels[first:].count(level)
+            tiles = range(first, last)
+            first = last
             job = row_jobs(lod, level)
             if job is None:
                 continue
-            rows, weighted = job
-            where = Lookup.turned(cascade.texels, offsets[:, rows], origin,
-                                  cascade.texels / cascade.size, cascade.turn)
-            weight = None
-            if weighted:
-                weight = octave_weights(lod[rows], level,
-                                        scratch("weights", lod[rows].shape, lod.dtype))
-            for i, f in enumerate(fields):
-                v = where.sample(textures[f])
-                if weight is not None:
-                    v *= weight
-                out[i, rows] += v
+            fine, coarse = [job], None
+            if on_grid:
+                fine, coarse = row_parts(lod, row_min, level, *job)
+            for rows, weighted in fine:
+                weight = None
+                if weighted:
+                    weight = octave_weights(lod[rows], level,
+                                            scratch("weights", lod[rows].shape, lod.dtype))
+                for j in tiles:
+                    self._add(j, offsets[:, rows], origin, fields, out[:, rows], weight)
+            if coarse is not None:
+                r = every_other(coarse.stop - coarse.start) + coarse.start
+                points = offsets[:, r[:, None], every_other(offsets.shape[2])]
+                sums = scratch("coarse", (len(fields),) + points.shape[1:], np.float32)
+                sums.fill(0.0)
+                for j in tiles:
+                    self._add(j, points, origin, fields, sums, None)
+                filled = scratch("filled", out[0, coarse].shape, np.float32)
+                for i in range(len(fields)):
+                    out[i, coarse] += fill_every_other(sums[i], filled)
 
-    def displacement(self, xy, t, lod=None):
+    def _add(self, j, offsets, origin, fields, out, weight):
+        """Add tile j's `fields` at origin + offsets into `out`, times `weight` if given."""
+        cascade, textures = self.cascades[j], self.textures[j]
+        where = Lookup.turned(cascade.texels, offsets, origin, cascade.texels / cascade.size,
+                              cascade.turn)
+        for i, f in enumerate(fields):
+            v = where.sample(textures[f])
+            if weight is not None:
+                v *= weight
+            out[i] += v
+
+    def displacement(self, xy, t, lod=None, on_grid=False):
         """(h, (dx, dy) or None) at world points xy (2, ...): the height and, with choppiness,
-        the horizontal displacement."""
+        the horizontal displacement (`on_grid`: see `sample`)."""
         if self.choppiness == 0.0:
-            return self.sample(xy, t, lod, (0,))[0], None
-        h, dx, dy = self.sample(xy, t, lod, GEOMETRY)
+            return self.sample(xy, t, lod, (0,), on_grid)[0], None
+        h, dx, dy = self.sample(xy, t, lod, GEOMETRY, on_grid)
         return h, np.stack([dx, dy])
 
     def heights(self, x, y, t, lod=None):

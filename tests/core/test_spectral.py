@@ -179,6 +179,52 @@ def test_a_frame_is_a_pure_function_of_time():
     assert np.array_equal(seq.sample(np.stack([x, y]), 12.5, fields=(0, 1, 2)), want)
 
 
+def test_a_grid_samples_long_bands_every_other_vertex():
+    """On a frame's grid, a band whose shortest wave spans 64 vertex spacings or more is
+    sampled on every other row and column and interpolated between: the surface stays within
+    2 % of the sea's standard deviation of sampling every vertex (the tiles' own bilinear
+    texels, 6 to 8 a wave, bend it more), and some bands do take that path."""
+    source = SpectralField(SeaState(wind_speed=9.4), choppiness=1.0, seed=3)
+    eye = np.array([0.0, 0.0, 10.0])
+    cam = (look_at(eye, eye + (np.cos(0.4), np.sin(0.4), -0.14)),
+           perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
+    result = build_grid(cam, source, time=6.0, resolution=(257, 257))
+    xy, lod = result.base, result.lod.reshape(result.base.shape[1:])
+    coarse = source.sample(xy, 6.0, lod, spectral_field.GEOMETRY, on_grid=True)
+    every = source.sample(xy, 6.0, lod, spectral_field.GEOMETRY)
+    assert np.abs(coarse - every).max() < 0.02 * source.spread[0]
+    assert np.abs(coarse - every).max() > 1e-4  # the coarse path was taken
+    jobs = [(level, band_limit.row_jobs(lod, level)) for level in set(source.levels)]
+    parts = [band_limit.row_parts(lod, lod.min(axis=1), level, *job)[1]
+             for level, job in jobs if job is not None]
+    assert sum(p is not None for p in parts) >= 2
+
+
+def test_every_other_vertex_interpolates_linearly():
+    """A field linear on the grid is restored exactly from every other row and column, for odd
+    and even counts (the last row and column are always sampled)."""
+    for rows, cols in ((5, 5), (6, 7), (7, 6), (8, 8)):
+        y, x = np.mgrid[0:rows, 0:cols].astype(np.float32)
+        field = 3.0 * x - 2.0 * y + 1.0
+        coarse = field[band_limit.every_other(rows)][:, band_limit.every_other(cols)]
+        out = np.full((rows, cols), np.nan, np.float32)
+        assert np.array_equal(band_limit.fill_every_other(coarse, out), field)
+
+
+def test_a_band_s_coarse_rows_are_where_every_vertex_holds_it_long():
+    """row_parts: the longest run of rows whose every vertex is COARSE levels above the band's
+    fade-in goes coarse; the rest of the band's rows stay fine, weighted where they fade."""
+    lod = np.repeat(np.linspace(8.0, -1.0, 30)[:, None], 9, axis=1)
+    job = band_limit.row_jobs(lod, 0.0)
+    fine, coarse = band_limit.row_parts(lod, lod.min(axis=1), 0.0, *job)
+    assert (lod[coarse] >= band_limit.COARSE).all() and coarse.start == 0
+    assert lod[coarse.stop].min() < band_limit.COARSE
+    assert [p for p, _ in fine] == [slice(coarse.stop, 26)]  # lod > 0 to row 25
+    assert fine[0][1]  # its last rows fade the band out
+    few = lod[:, :4]
+    assert band_limit.row_parts(few, few.min(axis=1), 0.0, slice(0, 26), True)[1] is None
+
+
 def test_choppy_points_move_toward_the_crests():
     """Tessendorf's displacement sharpens the crests: the surface compresses (Jacobian < 1)
     where it is high, and stretches where it is low."""
