@@ -20,6 +20,8 @@ SceneFacts and the constants each decision's reason quotes; split, each half wou
 other's.
 """
 
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -228,10 +230,56 @@ def foam_thresholds(source, time, coverage, samples=16384):
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 
 
-def _calibration(source, time, coverage, samples):
+FOAM_KEPT = 4  # calibrations a source keeps (the frame's two and two ahead)
+_AHEAD = {"pool": None, "pending": {}}
+_AHEAD_LOCK = threading.Lock()
+
+
+def calibrate_ahead(source, time, coverage, samples=16384):
+    """Start the whitecap calibrations of the next two FOAM_PERIODs after `time` on a worker
+    thread, so that playing a sequence does not stall each time a period begins (a spectral
+    calibration costs ten frames). What the worker makes is what `foam_thresholds` would
+    (the same function of the settings and the time, on the source's `twin`), put into the
+    source's own cache; a frame that needs one still being made waits for it. Returns the
+    number of calibrations started (0 for a source with no `twin`)."""
+    twin = getattr(source, "twin", None)
+    if twin is None:
+        return 0
+    coverage = min(max(float(coverage), 1e-6), 1.0)
     cache = source.__dict__.setdefault("_foam_calibrations", {})
+    t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
+    started = 0
+    with _AHEAD_LOCK:
+        for t in (t0 + FOAM_PERIOD, t0 + 2.0 * FOAM_PERIOD):
+            key = (t, coverage, samples)
+            if key in cache or (id(cache), key) in _AHEAD["pending"]:
+                continue
+            if _AHEAD["pool"] is None:
+                _AHEAD["pool"] = ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam")
+            _AHEAD["pending"][id(cache), key] = _AHEAD["pool"].submit(
+                _calibrate_into, twin(), cache, key)
+            started += 1
+    return started
+
+
+def _calibrate_into(source, cache, key):
+    try:
+        return _calibration(source, *key, cache=cache)
+    finally:
+        with _AHEAD_LOCK:
+            _AHEAD["pending"].pop((id(cache), key), None)
+
+
+def _calibration(source, time, coverage, samples, cache=None):
+    if cache is None:
+        cache = source.__dict__.setdefault("_foam_calibrations", {})
     key = (time, coverage, samples)
-    if key not in cache:
+    with _AHEAD_LOCK:
+        pending = _AHEAD["pending"].get((id(cache), key))
+    if pending is not None and threading.current_thread() is threading.main_thread():
+        pending.result()  # being made ahead: wait rather than make it twice
+    made = cache.get(key)
+    if made is None:
         x, y = sea_sample(source.foam_span, samples)
         xy = np.stack([x, y])
         levels = np.asarray(source.foam_levels(), dtype=np.float64)
@@ -246,10 +294,12 @@ def _calibration(source, time, coverage, samples):
                 thresholds.append(float(cue.max()) + NO_FOAM)
             else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
                 thresholds.append(_covering(cue, coverage, width))
-        if len(cache) > 8:
-            cache.clear()
-        cache[key] = (levels, np.array(thresholds), widths)
-    return cache[key]
+        made = (levels, np.array(thresholds), widths)
+        with _AHEAD_LOCK:
+            cache[key] = made
+            for old in list(cache)[:-FOAM_KEPT]:  # the oldest made first
+                del cache[old]
+    return made
 
 
 def _ramp_widths(spreads, placed):
@@ -463,17 +513,20 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
-def foam_field(source, result, time, wind_speed, crests, boxes, level):
+def foam_field(source, result, time, wind_speed, crests, boxes, level, ahead=False):
     """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
     `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum. `result` is the frame's
     GridResult: the cue is taken at its grid points before any choppy displacement, and from
-    the grid itself where the source asks for it (the spectrum's folding)."""
+    the grid itself where the source asks for it (the spectrum's folding). `ahead`: also
+    start the coming seconds' calibrations on a worker (`calibrate_ahead`), for playback."""
     foam = None
     surface = result.surface
     if crests:
         coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
         calibration = foam_thresholds(source, time, coverage)
+        if ahead:
+            calibrate_ahead(source, time, coverage)
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lod = result.lod.reshape(xy.shape[1:])
         foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)

@@ -29,6 +29,7 @@ Over 300 lines on purpose: a cascade (one tile's band of the spectrum) and the f
 the cascades share the band layout, the phases and the band limit.
 """
 
+import copy
 from functools import cached_property, lru_cache
 
 import numpy as np
@@ -253,6 +254,15 @@ class SpectralField:
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
+
+    def twin(self):
+        """The same sea for another thread (effects.calibrate_ahead): its cascades, caches
+        and calibrations shared (read only but for caches of what is a pure function of the
+        settings), its prepared fields its own."""
+        other = copy.copy(self)
+        other._prepared = None
+        other.textures = []
+        return other
 
     @cached_property
     def layer(self):

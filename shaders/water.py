@@ -110,6 +110,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     *((f"Layer Top Log {b}", "NodeSocketFloat", 0.0) for b in (1, 2, 3)),
     *((f"Layer Bottom Log {b}", "NodeSocketFloat", -1.0) for b in (1, 2, 3)),
 )
+DEFAULTS = {name: default for name, _, default in INPUTS}
 LAYER_BANDS = 3
 LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own images
 # This session's layer images: {image session_uid: (owning material's session_uid, checksum
@@ -646,9 +647,9 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Layer Density": filtering.layer_density,
         "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
     for b in range(1, LAYER_BANDS + 1):
-        level, top, bottom = layer[b - 1] if b <= len(layer) else (-100.0, 0.0, -1.0)
-        values.update({f"Layer Level {b}": level, f"Layer Top Log {b}": top,
-                       f"Layer Bottom Log {b}": bottom})
+        names = (f"Layer Level {b}", f"Layer Top Log {b}", f"Layer Bottom Log {b}")
+        band = layer[b - 1] if b <= len(layer) else (DEFAULTS[n] for n in names)  # none drawn
+        values.update(zip(names, band, strict=True))
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

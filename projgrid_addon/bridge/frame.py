@@ -132,8 +132,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         on = {e: d[0] for e, d in decisions.items()}
         visible = result.visible
         boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
-        foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level)
-                if visible else None)
+        foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level,
+                                   ahead=not render) if visible else None)
         caustics = (effects.caustic_field(result.surface, facts)
                     if visible and on["caustics"] else None)
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)

@@ -71,6 +71,22 @@ def test_foam_covers_the_sea_at_a_strong_wind(sea, state):
     assert 0.0 < foam.mean() < 0.2
 
 
+def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension):
+    """A viewport frame with whitecaps starts the next two seconds' calibrations on the worker
+    (so playback does not stall each second); a render's frame does not (it has no next)."""
+    effects = extension.projgrid_addon.effects
+    sea.projgrid.foam = "ON"
+    scene = bpy.context.scene
+    for future in list(effects._AHEAD["pending"].values()):
+        future.result()
+    scene.frame_set(30)  # 1.25 s at 24 fps: the calibrations of 2 s and 3 s are ahead
+    for future in list(effects._AHEAD["pending"].values()):
+        future.result()
+    source = bridge.scene.height_field(sea.projgrid)
+    times = {key[0] for key in source._foam_calibrations}
+    assert {1.0, 2.0, 3.0} <= times
+
+
 def test_the_noise_foam_at_a_strong_wind_is_not_empty():
     scene = bpy.context.scene
     add_camera(scene)

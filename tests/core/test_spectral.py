@@ -275,6 +275,24 @@ def test_foam_covers_the_whitecap_share_and_stays_steady(u):
         assert later == pytest.approx(now, rel=0.3)
 
 
+def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
+    """calibrate_ahead makes the next two seconds' calibrations on a worker, into the source's
+    own cache, bit for bit what the frame would make itself; asked again it starts nothing,
+    and a source without a twin (the noise) is left to calibrate itself."""
+    source = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
+    coverage = effects.whitecap_coverage(12.0)
+    assert effects.calibrate_ahead(source, 10.3, coverage) == 2
+    for future in list(effects._AHEAD["pending"].values()):
+        future.result()
+    assert effects.calibrate_ahead(source, 10.6, coverage) == 0  # made: nothing to start
+    fresh = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
+    for t in (11.0, 12.0):
+        made = source._foam_calibrations[(t, coverage, 16384)]
+        want = effects._calibration(fresh, t, coverage, 16384)
+        assert all(np.array_equal(a, b) for a, b in zip(made, want, strict=True))
+    assert effects.calibrate_ahead(HeightField(), 10.3, coverage) == 0
+
+
 def test_the_ripples_are_the_spectrum_s_tail():
     """The waves shorter than the last band come back as shading detail whose height is the
     spectrum's own there: Pierson-Moskowitz's k⁻⁴ tail, σ² = α/4 (1/k₁² − 1/k₂²) with

@@ -135,10 +135,61 @@ def sea_cost(repeats=15):
               "Ocean modifier 16 (257²), choppy, foam":
                   ocean_modifier_scene(257, choppiness=1.0, foam=True, name=" foam"),
               "spectrum 65×129 (viewport)": ours(65, "SPECTRUM", (65, 129))}
-    times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
+    # No whitecap calibrations ahead on the worker (playback_cost measures those): its
+    # thread would take the second core from the Ocean modifier's threads.
+    effects = extension().projgrid_addon.effects
+    ahead, effects.calibrate_ahead = effects.calibrate_ahead, (lambda *a, **k: 0)
+    for future in list(effects._AHEAD["pending"].values()):
+        future.result()
+    try:
+        times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
+    finally:
+        effects.calibrate_ahead = ahead
     for s in scenes.values():
         bpy.data.scenes.remove(s)
     return [{"variant": k, **v.ms()} for k, v in times.items()]
+
+
+def playback_cost(seconds=3, rounds=2):
+    """Frame times while playing the spectral sea on the viewport grid (Beaufort 5, foam on):
+    `seconds` of consecutive frames, with the coming seconds' whitecap calibrations made
+    ahead on a worker thread (effects.calibrate_ahead) and with each made by the frame that
+    first needs it, alternately, each round at times of its own. Per variant: the median,
+    90th percentile and slowest frame, and the frames slower than twice the median (stalls)."""
+    effects = extension().projgrid_addon.effects
+    ahead = effects.calibrate_ahead
+    scene = projected_scene(65)
+    obj = _ocean(scene)
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0],
+                                   active_object=obj):
+        bpy.ops.projgrid.sea_state(beaufort=5)
+    obj.projgrid.foam = "ON"
+    obj.projgrid.resolution_x, obj.projgrid.resolution_y = 65, 129
+    frames = {"ahead on a worker": [], "in the frame": []}
+    start = scene.frame_current
+    try:
+        for r in range(rounds):
+            for n, variant in enumerate(frames):
+                effects.calibrate_ahead = ahead if n == 0 else (lambda *a, **k: 0)
+                for future in list(effects._AHEAD["pending"].values()):
+                    future.result()  # the worker idle as each variant starts
+                first = start + (2 * r + n) * 200 * scene.render.fps // 24
+                scene.frame_set(first)
+                for f in range(first + 1, first + 1 + seconds * scene.render.fps):
+                    t = time.perf_counter()
+                    scene.frame_set(f)
+                    frames[variant].append(time.perf_counter() - t)
+    finally:
+        effects.calibrate_ahead = ahead
+        bpy.data.scenes.remove(scene)
+    rows = []
+    for variant, times in frames.items():
+        ms = np.array(times) * 1e3
+        median = float(np.median(ms))
+        rows.append({"variant": variant, "frames": len(ms), "median": median,
+                     "p90": float(np.percentile(ms, 90)), "max": float(ms.max()),
+                     "stalls": int((ms > 2.0 * median).sum())})
+    return rows
 
 
 def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):

@@ -391,7 +391,12 @@ def _render(report):
                "luminance. \"Converged\" is the first frame without the filtering at 64 "
                "samples: what the pixels average to with every wave drawn, the contrast the "
                "filtering should keep (at 4 samples part of the unfiltered contrast is "
-               "aliasing).", "",
+               "aliasing). It is no ground truth toward grazing: waves drawn as normals hide "
+               "none of each other, so it counts facets turned away from the camera that a "
+               "real sea hides, which reflect the bright horizon; the filtered mean Fresnel "
+               "(Bruneton's fit) counts the facets a viewer sees. Away from the sun the "
+               "filtered far field is darker than it (0.16 against 0.28 from 150 m), toward "
+               "the sun brighter (the glitter path's filtered lobe).", "",
                _table(fl, [("shot", "shot", ""), ("", "variant", ""),
                            ("far-field change", _maybe("flicker", ".4f"), ""),
                            ("its second difference", _maybe("flicker_2", ".4f"), ""),
@@ -536,8 +541,20 @@ def _sea(report):
         "29 to 26 ms (1.29 × to 1.11 ×); the slope layer's three tiles and images add about "
         "1.5 ms (runs at fae0e46 and 4787275 measured 1.17 × and 1.04 ×: this VM's load "
         "moves the ratio that much). Threads over tiles and rows gained 5 % (NumPy's pieces "
-        "are too small to share two cores) and were left out; the per-second foam calibration "
-        "(0.15 s) is a median's outlier, a hitch once a second in playback."))
+        "are too small to share two cores) and were left out. The per-second foam "
+        "calibration is made ahead on a second thread in the viewport (below), so its CPU "
+        "time shows in this table's CPU column but not in the frame's wall time."))
+    playback = results.get("playback")
+    if playback:
+        md += ["Playing the spectral sea on the viewport grid (65×129, Beaufort 5, foam on), "
+               "consecutive frames: the whitecaps are calibrated once a second (the "
+               "thresholds that give the wind's coverage, effects.foam_thresholds), made "
+               "ahead on a worker thread or by the frame that first needs them. Stalls: "
+               "frames slower than twice the median.", "",
+               _table(playback, [("variant", "variant", ""), ("frames", "frames", "d"),
+                                 ("median ms", "median", ".1f"), ("p90 ms", "p90", ".1f"),
+                                 ("slowest ms", "max", ".1f"), ("stalls", "stalls", "d")]),
+               ""]
 
 
 def _pictures(report):

@@ -1,0 +1,156 @@
+"""The water group's node tree computes what the core says it does: its roughness and its
+slope layer's gains, evaluated node by node in Python (a shader cannot be run without a
+render), against shading.unresolved_slope_variance and shading.layer_gain."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from .helpers import add_camera, add_ocean
+
+
+def _safe_log(a, b):
+    return math.log(a) / math.log(b) if a > 0.0 and b > 0.0 and b != 1.0 else 0.0
+
+
+def _safe_pow(a, b):
+    if a < 0.0 and b != int(b):
+        return 0.0
+    return a**b if a != 0.0 or b > 0.0 else 0.0
+
+
+MATH = {
+    "ADD": lambda a, b, c: a + b, "SUBTRACT": lambda a, b, c: a - b,
+    "MULTIPLY": lambda a, b, c: a * b, "DIVIDE": lambda a, b, c: a / b if b != 0.0 else 0.0,
+    "MULTIPLY_ADD": lambda a, b, c: a * b + c, "MAXIMUM": lambda a, b, c: max(a, b),
+    "MINIMUM": lambda a, b, c: min(a, b), "ABSOLUTE": lambda a, b, c: abs(a),
+    "SQRT": lambda a, b, c: math.sqrt(a) if a > 0.0 else 0.0,
+    "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
+    "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
+}
+VECTOR = {
+    "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
+    "MULTIPLY": lambda a, b, s: a * b, "SCALE": lambda a, b, s: a * s,
+    "NORMALIZE": lambda a, b, s: a / np.linalg.norm(a) if np.linalg.norm(a) else a * 0.0,
+}
+
+
+class Evaluator:
+    """Values of a shader node tree's sockets for given group inputs and stubbed scene inputs
+    (the nodes a render would feed: attribute, camera data, geometry)."""
+
+    def __init__(self, group_inputs, lod, distance, incoming):
+        self.inputs, self.cache = group_inputs, {}
+        self.stubs = {"ShaderNodeAttribute": {"Fac": lod},
+                      "ShaderNodeCameraData": {"View Distance": distance},
+                      "ShaderNodeNewGeometry": {"Incoming": np.asarray(incoming, float),
+                                                "Normal": np.array([0.0, 0.0, 1.0])}}
+
+    def input(self, socket):
+        if socket.is_linked:
+            return self.output(socket.links[0].from_socket)
+        value = socket.default_value
+        return np.array(value[:3], float) if hasattr(value, "__len__") else float(value)
+
+    def output(self, socket):
+        key = socket.as_pointer()
+        if key not in self.cache:
+            self.cache[key] = self._compute(socket.node, socket)
+        return self.cache[key]
+
+    def _compute(self, node, socket):
+        kind = node.bl_idname
+        if kind == "NodeGroupInput":
+            return self.inputs[socket.name]
+        if kind in self.stubs:
+            stub = self.stubs[kind]
+            return stub[socket.identifier] if socket.identifier in stub else stub[socket.name]
+        if kind == "ShaderNodeMath":
+            a, b, c = (self.input(s) for s in node.inputs[:3])
+            v = MATH[node.operation](a, b, c)
+            return min(max(v, 0.0), 1.0) if node.use_clamp else v
+        if kind == "ShaderNodeVectorMath":
+            a, b = self.input(node.inputs[0]), self.input(node.inputs[1])
+            s = self.input(node.inputs["Scale"]) if node.operation == "SCALE" else None
+            if node.operation == "DOT_PRODUCT":
+                return float(np.dot(a, b))
+            return VECTOR[node.operation](a, b, s)
+        if kind == "ShaderNodeSeparateXYZ":
+            return float(self.input(node.inputs[0])["XYZ".index(socket.name)])
+        if kind == "ShaderNodeCombineXYZ":
+            return np.array([self.input(node.inputs[k]) for k in "XYZ"], float)
+        raise NotImplementedError(kind)
+
+
+@pytest.fixture
+def water(extension):
+    """The spectral sea's water group, the material's group node, and the core's modules."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    obj.projgrid.height_source = "SPECTRUM"
+    assert bpy.ops.projgrid.sea_state(beaufort=5) == {"FINISHED"}
+    scene.frame_set(2)
+    core = extension.projgrid_addon
+    material = extension.shaders.water.material_of(obj.data)
+    node = material.node_tree.nodes[extension.shaders.water.GROUP]
+    return node, core
+
+
+def _settings(node, core):
+    values = {s.name: (np.array(s.default_value[:3], float)
+                       if hasattr(s.default_value, "__len__") else float(s.default_value))
+              for s in node.inputs if hasattr(s, "default_value")}
+    f = core.shading.Filtering(
+        pixel_log=values["Pixel Log"], distance_power=values["Distance Power"],
+        floor=values["Slope Floor"], ripple=values["Ripple Slopes"],
+        cos_floor=values["Cos Floor"], ripple_gain=1.0, density=values["Slope Density"],
+        shortest_log=values["Shortest Log"], ripple_top_log=values["Ripple Top Log"],
+        ceiling=values["Slope Ceiling"], layer_top_log=values["Layer Top Log"],
+        layer_density=values["Layer Density"], left_out_log=values["Left Out Log"])
+    bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
+                                        values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
+    return values, f, bands
+
+
+CASES = [(d, c, lod) for d in (3.0, 40.0, 400.0, 4000.0) for c in (0.05, 0.4, 1.0)
+         for lod in (-6.0, -1.5, 0.7, 3.0)]
+
+
+def test_the_roughness_is_the_core_s(water):
+    node, core = water
+    values, f, _ = _settings(node, core)
+    assert f.layer_density > 0.0 and f.density > 0.0  # the spectral sea's: not a trivial case
+    tree = node.node_tree
+    glossy = next(n for n in tree.nodes if n.bl_idname in (
+        "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic") and n.inputs["Roughness"].is_linked)
+    seen = set()
+    for d, c, lod in CASES:
+        ev = Evaluator(values, lod, d, (math.sqrt(1.0 - c * c), 0.0, c))
+        drawn = ev.input(glossy.inputs["Roughness"]) ** 4
+        want = float(core.shading.unresolved_slope_variance(f, d, c, lod))
+        assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod)
+        seen.add(round(want, 6))
+    assert len(seen) > 10  # the cases reach different parts of the formula
+
+
+def test_the_slope_layer_s_gains_are_the_core_s(water):
+    node, core = water
+    values, f, bands = _settings(node, core)
+    tree = node.node_tree
+    tilt = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeVectorMath"
+                and n.operation == "MULTIPLY" and n.inputs[1].is_linked
+                and n.inputs[1].links[0].from_node.bl_idname == "ShaderNodeCombineXYZ")
+    seen = set()
+    for b, band in enumerate(bands, start=1):
+        for d, c, lod in CASES:
+            one = {**values, **{f"Layer Slopes {k}": np.array([float(k == b), 0.0, 0.0])
+                                for k in (1, 2, 3)}}
+            ev = Evaluator(one, lod, d, (math.sqrt(1.0 - c * c), 0.0, c))
+            drawn = -ev.output(tilt.outputs[0])[0]  # tilted against the slope, up = 1
+            want = float(core.shading.layer_gain(band, lod, core.shading.footprint_log(f, d, c)))
+            assert drawn == pytest.approx(want, rel=1e-5, abs=1e-7), (b, d, c, lod)
+            seen.add(round(want, 4))
+    assert len(seen) > 8 and 0.0 in seen and max(seen) > 0.5
