@@ -8,8 +8,9 @@ band's wave vectors (`Cascade`). A tile repeats, and where a band holds much of 
 energy its repetition would show (the surface's autocorrelation at the tile's period is the
 tile's share of the variance), so such a band's energy is shared among several tiles of sizes
 that are not multiples of each other (TILE_RATIOS), each turned by its own angle and with its
-own phases: no tile holds more than SHARE_PER_TILE of the variance, and the tiles' lattices
-never line up, so they never repeat together.
+own phases: no tile holds more than SHARE_PER_TILE of the variance. Where two tiles' lattices
+nearly meet within a few kilometres they would repeat together; each tile is read through a
+slow warp of its own (warp.py), which spreads such a joint repeat over metres.
 
     h(k, t) = h0(k) e^(-i omega t) + conj(h0(-k)) e^(i omega t),   omega^2 = g |k|
     h0(k)   = e^(i phi_k) sqrt(E(k) dk^2 / 2)                        (phi_k: a random phase)
@@ -40,6 +41,7 @@ from .projected_grid import grid_derivative
 from .scratch import CHUNK, scratch
 from .tiles import Lookup, periodic_patches
 from .validation import finite, integer, non_negative
+from .warp import Warp
 
 TEXELS = 64  # samples across a tile
 BAND_LONGEST = 1300.0  # m: the longest waves synthesised (a storm's peak is about 600 m)
@@ -249,6 +251,7 @@ class SpectralField:
         # Tessendorf's lambda = 1 on a sea drawn without it (its crests still break), which
         # `displacement` then does not apply.
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
+        self.warp = Warp(self.seed)
         self._prepared = None
         self._shares = band_shares(state)
         self._m0 = spectrum.moments(state)[0]
@@ -278,23 +281,36 @@ class SpectralField:
         power = sum(float(np.sum(c.power())) for c in self.cascades)
         return float(np.sqrt(power)), float(self.choppiness * np.sqrt(power))
 
-    def autocorrelation(self, lags, fine=4):
+    def autocorrelation(self, lags, fine=4, samples=256):
         """The surface's height autocorrelation at `lags` (2, ...) m, over its random phases
         (Wiener-Khinchin): each tile's power |h0(k)|^2 + |h0(-k)|^2 transformed on its own
         lattice, so it is periodic with the tile and returns to the tile's share of the
-        variance wherever the tile repeats. Transformed `fine` times denser than the tile's
-        texels (exact there) and sampled bilinearly between."""
+        variance wherever the tile repeats, transformed `fine` times denser than the tile's
+        texels (exact there) and sampled bilinearly between; each tile's read at the lag
+        moved by its turn of the warp's change over the lag, averaged over `samples` of the
+        warp's phases (Warp.shifts; `samples` 0: no warp)."""
         lags = np.asarray(lags, dtype=np.float64)
-        out = np.zeros(lags.shape[1:])
-        offsets = lags.astype(np.float32)
+        flat = lags.reshape(2, -1)
+        out = np.zeros(flat.shape[1])
+        tiles = []
         for c in self.cascades:
             n = c.texels * fine
             power = np.zeros((n, n))
             at = np.fft.fftfreq(c.texels, 1.0 / c.texels).astype(int) % n
             power[np.ix_(at, at)] = c.power()
-            acf = np.fft.ifft2(power, norm="forward").real.astype(np.float32)
-            out += Lookup.turned(n, offsets, (0.0, 0.0), n / c.size, c.turn,
-                                 "acf").sample(periodic_patches(acf))
+            tiles.append((n, periodic_patches(np.fft.ifft2(power, norm="forward").real
+                                              .astype(np.float32))))
+        for start in range(0, flat.shape[1], CHUNK):
+            part = flat[:, start:start + CHUNK]
+            offsets = part.astype(np.float32)
+            shifts = (self.warp.shifts(part, samples).astype(np.float32) if samples
+                      else np.zeros((1,) + part.shape, np.float32))
+            for j, (c, (n, acf)) in enumerate(zip(self.cascades, tiles, strict=True)):
+                for shift in shifts:
+                    out[start:start + CHUNK] += Lookup.turned(
+                        n, offsets, (0.0, 0.0), n / c.size, c.turn, "acf",
+                        (shift, Warp.turn(j))).sample(acf)
+        out = out.reshape(lags.shape[1:]) / len(shifts) if flat.shape[1] else out
         return out / self.spread[0] ** 2 if self.cascades else out
 
     @property
@@ -444,8 +460,8 @@ class SpectralField:
             origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
             offsets = scratch("offsets", xy2[:, band].shape, np.float32)
             np.subtract(xy2[:, band], origin[:, None, None], out=offsets, casting="same_kind")
-            self._sum(origin, offsets, None if lod2 is None else lod2[band], fields,
-                      out2[:, band], on_grid)
+            self._sum(origin, offsets, self.warp(origin, offsets),
+                      None if lod2 is None else lod2[band], fields, out2[:, band], on_grid)
         return out
 
     @staticmethod
@@ -458,9 +474,10 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, origin, offsets, lod, fields, out, on_grid):
+    def _sum(self, origin, offsets, warp, lod, fields, out, on_grid):
         """Add the bands' `fields` at origin + offsets into `out`, band by band (a band's
-        tiles are consecutive and share its level, so its rows and its coarse part)."""
+        tiles are consecutive and share its level, so its rows and its coarse part), each tile
+        read where `warp` (the Warp there) turned by its own turn moves the points."""
         row_min = lod.min(axis=1) if on_grid else None
         first = 0
         while first < len(self.cascades):
@@ -480,23 +497,26 @@ class SpectralField:
                     weight = octave_weights(lod[rows], level,
                                             scratch("weights", lod[rows].shape, lod.dtype))
                 for j in tiles:
-                    self._add(j, offsets[:, rows], origin, fields, out[:, rows], weight)
+                    self._add(j, offsets[:, rows], warp[:, rows], origin, fields,
+                              out[:, rows], weight)
             if coarse is not None:
-                r = every_other(coarse.stop - coarse.start) + coarse.start
-                points = offsets[:, r[:, None], every_other(offsets.shape[2])]
+                at = (every_other(coarse.stop - coarse.start)[:, None] + coarse.start,
+                      every_other(offsets.shape[2]))
+                points, moved = offsets[:, at[0], at[1]], warp[:, at[0], at[1]]
                 sums = scratch("coarse", (len(fields),) + points.shape[1:], np.float32)
                 sums.fill(0.0)
                 for j in tiles:
-                    self._add(j, points, origin, fields, sums, None)
+                    self._add(j, points, moved, origin, fields, sums, None)
                 filled = scratch("filled", out[0, coarse].shape, np.float32)
                 for i in range(len(fields)):
                     out[i, coarse] += fill_every_other(sums[i], filled)
 
-    def _add(self, j, offsets, origin, fields, out, weight):
-        """Add tile j's `fields` at origin + offsets into `out`, times `weight` if given."""
+    def _add(self, j, offsets, warp, origin, fields, out, weight):
+        """Add tile j's `fields` at origin + offsets (moved by its turn of `warp`) into
+        `out`, times `weight` if given."""
         cascade, textures = self.cascades[j], self.textures[j]
         where = Lookup.turned(cascade.texels, offsets, origin, cascade.texels / cascade.size,
-                              cascade.turn)
+                              cascade.turn, shift=(warp, Warp.turn(j)))
         for i, f in enumerate(fields):
             v = where.sample(textures[f])
             if weight is not None:

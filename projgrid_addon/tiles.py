@@ -60,12 +60,14 @@ class Lookup:
         self._locate(size, s, tag)
 
     @classmethod
-    def turned(cls, size, offsets, origin, scale, turn, tag=""):
+    def turned(cls, size, offsets, origin, scale, turn, tag="", shift=None):
         """A Lookup of the points origin + offsets in a texture turned by `turn` (cos, sin) on
         the plane. `offsets` (2, ...) float32: the texel coordinates are taken in single
         precision, the origin's reduced by the period in double first, so a texel coordinate
         is as exact as the offsets are small (the bands are sampled only within some
-        thousand texels of the camera, where the float32 error is below 1e-3 texel)."""
+        thousand texels of the camera, where the float32 error is below 1e-3 texel).
+        `shift`: (vectors (2, ...) float32, (cos, sin)): the points are moved by the vectors
+        turned by that turn first (warp.py)."""
         self = cls.__new__(cls)
         c, sn = turn[0] * scale, turn[1] * scale
         start = turned_texel(origin, turn, scale, size)
@@ -76,6 +78,15 @@ class Lookup:
         s[0] += np.multiply(offsets[1], sn, out=across)
         np.multiply(offsets[1], c, out=s[1])
         s[1] -= np.multiply(offsets[0], sn, out=across)
+        if shift is not None:
+            # Turned by the shift's turn on the plane, then back by the texture's: one turn.
+            v, (sc, ss) = shift
+            a = np.float32(scale * (sc * turn[0] + ss * turn[1]))
+            b = np.float32(scale * (ss * turn[0] - sc * turn[1]))
+            s[0] += np.multiply(v[0], a, out=across)
+            s[0] -= np.multiply(v[1], b, out=across)
+            s[1] += np.multiply(v[0], b, out=across)
+            s[1] += np.multiply(v[1], a, out=across)
         s[0] += np.float32(start[0])
         s[1] += np.float32(start[1])
         self._locate(size, s, tag)
