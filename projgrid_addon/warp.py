@@ -36,6 +36,7 @@ class Warp:
         length = np.geomspace(SHORTEST, LONGEST, WAVES)
         self.q = np.stack([np.cos(heading), np.sin(heading)]) * (2.0 * np.pi / length)
         self.e = np.stack([np.cos(along), np.sin(along)]) * AMPLITUDE
+        self._q32, self._e32 = self.q.T.astype(np.float32), self.e.astype(np.float32)
 
     @staticmethod
     def turn(j):
@@ -46,20 +47,14 @@ class Warp:
         """w at origin + offsets (2, ...) float32, as (2, ...) float32 (a scratch array of
         `tag`): the phase at the origin in double precision, the offsets' in single (they
         span some kilometres, a few turns of the warp's waves)."""
-        shape = offsets.shape[1:]
+        flat = offsets.reshape(2, -1)
         out = scratch(tag, offsets.shape, np.float32)
-        out.fill(0.0)
-        arg = scratch(tag + "arg", shape, np.float32)
-        part = scratch(tag + "part", shape, np.float32)
-        for m in range(WAVES):
-            qx, qy = self.q[:, m]
-            start = (qx * origin[0] + qy * origin[1] + self.phase[m]) % (2.0 * np.pi)
-            np.multiply(offsets[0], np.float32(qx), out=arg)
-            arg += np.multiply(offsets[1], np.float32(qy), out=part)
-            arg += np.float32(start)
-            np.sin(arg, out=arg)
-            out[0] += np.multiply(arg, np.float32(self.e[0, m]), out=part)
-            out[1] += np.multiply(arg, np.float32(self.e[1, m]), out=part)
+        arg = scratch(tag + "arg", (WAVES, flat.shape[1]), np.float32)
+        np.matmul(self._q32, flat, out=arg)
+        start = (self.q.T @ np.asarray(origin, np.float64) + self.phase) % (2.0 * np.pi)
+        arg += start.astype(np.float32)[:, None]
+        np.sin(arg, out=arg)
+        np.matmul(self._e32, arg, out=out.reshape(2, -1))
         return out
 
     def shifts(self, lags, samples=256):
