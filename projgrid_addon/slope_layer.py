@@ -70,11 +70,7 @@ class SlopeLayer:
         world x and y at time t, row y, column x of the band's turned tile (made once per
         time: a camera moving over a still frame reuses them)."""
         if self._made is None or self._made[0] != t:
-            out = []
-            for cascade in self.cascades:
-                real = cascade.samples(t, 0.0, SLOPES)
-                out.append(np.stack([real[SLOPES[0]], real[SLOPES[1]]]))
-            self._made = (t, out)
+            self._made = (t, [c.samples(t, 0.0, SLOPES) for c in self.cascades])
         return self._made[1]
 
     def lookups(self, origin):

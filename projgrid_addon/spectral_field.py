@@ -190,14 +190,19 @@ class Cascade:
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
         t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
         |(dx, dy)| of the samples (0 where those fields were not asked for)."""
+        which = list(which)
         real = self.samples(t, lam, which)
-        bound = float(np.abs(real[0]).max()) if 0 in real else 0.0
-        side = float(np.hypot(real[1], real[2]).max()) if 1 in real and 2 in real else 0.0
-        return {f: periodic_patches(real[f]) for f in which}, bound, side
+        at = {f: i for i, f in enumerate(which)}
+        bound = float(np.abs(real[at[0]]).max()) if 0 in at else 0.0
+        side = (float(np.hypot(real[at[1]], real[at[2]]).max()) if 1 in at and 2 in at
+                else 0.0)
+        made = periodic_patches(real)
+        return {f: made[i] for f, i in at.items()}, bound, side
 
     def samples(self, t, lam, which):
-        """{index: (texels, texels) float32} of the `which` fields at time t: the tile's
-        samples, row y, column x of its turned lattice."""
+        """(len(which), texels, texels) float32: the `which` fields (indices into FIELDS) at
+        time t, the tile's samples, row y, column x of its turned lattice (one batched inverse
+        transform)."""
         turns = self.omega * (t / (2.0 * np.pi))  # in float64: t may be large
         turns -= np.floor(turns)
         angle = (2.0 * np.pi) * turns.astype(np.float32)  # float32 sines are many times faster
@@ -206,9 +211,13 @@ class Cascade:
         phase.imag = -np.sin(angle)
         h = self._h0 * phase
         h += self._h0_neg_conj * np.conj(phase)
-        shape = (self.texels, self.texels)
-        return {f: np.fft.irfft2(h * self._factor(f, lam) if f else h, s=shape, norm="forward")
-                for f in which}
+        spectra = np.empty((len(which),) + h.shape, np.complex64)
+        for i, f in enumerate(which):
+            if f:
+                np.multiply(h, self._factor(f, lam), out=spectra[i])
+            else:
+                spectra[i] = h
+        return np.fft.irfft2(spectra, s=(self.texels, self.texels), norm="forward")
 
 
 class SpectralField:

@@ -13,25 +13,27 @@ from .scratch import scratch
 
 def patches(field):
     """(size^2,) complex128: the bilinear coefficients (a, b, c, d) of a (size+1)^2 field whose
-    last row and column repeat the first (a periodic tile, closed)."""
-    size = field.shape[0] - 1
-    f00, f10 = field[:-1, :-1], field[:-1, 1:]
-    f01, f11 = field[1:, :-1], field[1:, 1:]
-    out = np.empty((size, size, 4), dtype=np.float32)
+    last row and column repeat the first (a periodic tile, closed); of a stack of fields
+    (..., size+1, size+1), one such row each."""
+    size = field.shape[-1] - 1
+    f00, f10 = field[..., :-1, :-1], field[..., :-1, 1:]
+    f01, f11 = field[..., 1:, :-1], field[..., 1:, 1:]
+    out = np.empty(field.shape[:-2] + (size, size, 4), dtype=np.float32)
     out[..., 0] = f00
-    out[..., 1] = f10 - f00
-    out[..., 2] = f01 - f00
-    out[..., 3] = f11 - f10 - f01 + f00
-    return out.reshape(-1).view(np.complex128)
+    np.subtract(f10, f00, out=out[..., 1])
+    np.subtract(f01, f00, out=out[..., 2])
+    np.subtract(f11, f10, out=out[..., 3])
+    out[..., 3] -= out[..., 2]
+    return out.reshape(field.shape[:-2] + (-1,)).view(np.complex128)
 
 
 def periodic_patches(tile):
-    """`patches` of a periodic (size, size) tile."""
-    n = tile.shape[0]
-    closed = np.empty((n + 1, n + 1), tile.dtype)
-    closed[:n, :n] = tile
-    closed[n, :n] = tile[0]
-    closed[:, n] = closed[:, 0]
+    """`patches` of a periodic (size, size) tile, or of a stack of them (..., size, size)."""
+    n = tile.shape[-1]
+    closed = np.empty(tile.shape[:-2] + (n + 1, n + 1), tile.dtype)
+    closed[..., :n, :n] = tile
+    closed[..., n, :n] = tile[..., 0, :]
+    closed[..., :, n] = closed[..., :, 0]
     return patches(closed)
 
 
