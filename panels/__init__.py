@@ -3,6 +3,7 @@
 import bpy
 
 from .ocean_panel import (
+    VIEW3D_PT_projgrid_bake,
     VIEW3D_PT_projgrid_effects,
     VIEW3D_PT_projgrid_grid,
     VIEW3D_PT_projgrid_look,
@@ -12,7 +13,8 @@ from .ocean_panel import (
 )
 
 classes = (VIEW3D_PT_projgrid_ocean, VIEW3D_PT_projgrid_waves, VIEW3D_PT_projgrid_grid,
-           VIEW3D_PT_projgrid_look, VIEW3D_PT_projgrid_effects, VIEW3D_PT_projgrid_status)
+           VIEW3D_PT_projgrid_look, VIEW3D_PT_projgrid_effects, VIEW3D_PT_projgrid_bake,
+           VIEW3D_PT_projgrid_status)
 
 # Registers in order and unregisters in exact reverse.
 register, unregister = bpy.utils.register_classes_factory(classes)

@@ -5,7 +5,7 @@ settings."""
 import bpy
 
 from ..projgrid_addon import effects
-from ..projgrid_addon.bridge import frame, scene
+from ..projgrid_addon.bridge import bake, frame, scene
 from ..projgrid_addon.bridge.state import RUNTIME
 
 active_ocean = scene.active_ocean
@@ -13,7 +13,9 @@ active_ocean = scene.active_ocean
 
 def stats_lines(obj, the_scene):
     """The panel's status lines for an ocean (plain strings, so tests can check them)."""
-    lines = []
+    lines = bake_lines(obj, the_scene)
+    if lines:
+        return lines
     own = RUNTIME.peek(obj)
     if own is not None and own.drawn_by:
         why = ("linked from a library" if obj.library else "a library override"
@@ -37,6 +39,22 @@ def stats_lines(obj, the_scene):
     if not the_scene.render.use_lock_interface:
         lines.append(("LOCKED", "Lock Interface is off: renders need it (Render > Lock "
                       "Interface), since the ocean is rebuilt while rendering"))
+    return lines
+
+
+def bake_lines(obj, the_scene):
+    """The panel's lines about an ocean's bake (none while it is live)."""
+    mod = bake.cache_modifier(obj)
+    if mod is None:
+        return []
+    start, end = obj.projgrid.bake_frames
+    path = mod.cache_file.filepath if mod.cache_file is not None else "?"
+    lines = [("FILE_CACHE", f"Plays its bake: frames {start}-{end} for camera "
+                            f"{obj.projgrid.bake_camera!r}"),
+             ("FILE", path)]
+    why = bake.stale(the_scene, obj)
+    if why:
+        lines.append(("ERROR", f"Out of date: {why}; bake again or go back to live"))
     return lines
 
 
@@ -165,6 +183,25 @@ class VIEW3D_PT_projgrid_effects(_OceanSubPanel, bpy.types.Panel):
             col = self.layout.column(align=True)
             col.prop(s, effect)
             col.label(text=text)
+
+
+class VIEW3D_PT_projgrid_bake(_OceanSubPanel, bpy.types.Panel):
+    bl_label = "Bake"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        obj = active_ocean(context)
+        layout = self.layout
+        lines = bake_lines(obj, context.scene)
+        for icon, text in lines:
+            layout.label(text=text, icon=icon)
+        row = layout.row(align=True)
+        row.operator("projgrid.bake", text="Bake Again" if lines else "Bake",
+                     icon="RENDER_ANIMATION")
+        if lines:
+            row.operator("projgrid.bake_free", icon="LOOP_BACK")
+        else:
+            layout.label(text="For farms that run no scripts, and other packages", icon="INFO")
 
 
 class VIEW3D_PT_projgrid_status(_OceanSubPanel, bpy.types.Panel):

@@ -571,6 +571,44 @@ def update_layer(mat, slopes, lookups, origin):
             assign(nodes[f"Layer {b} {axis} Step"].inputs[1], default_value=1.0 / n)
 
 
+BAKED_LAYER = "Projected Grid Bake Slopes"  # and the band's number: a bake's image sequence
+
+
+def layer_taps(mat):
+    """(band, image) of the slope layer's texture nodes in our material (image None if unset)."""
+    nodes = mat.node_tree.nodes
+    return [(b, nodes[f"Layer {b} Tap 0"].image) for b in range(1, LAYER_BANDS + 1)
+            if f"Layer {b} Tap 0" in nodes]
+
+
+def play_layer_sequences(mat, files, first, last):
+    """The slope layer read from image sequences, per band the file of frame `first` (numbered
+    by frame, up to `last`), as a bake wrote them; `files` empty: back to the images written
+    each frame (the bake's sequences removed, update_layer makes new images)."""
+    nodes = mat.node_tree.nodes
+    for b in range(1, LAYER_BANDS + 1):
+        taps = [nodes.get(f"Layer {b} Tap {t}") for t in range(4)]
+        if any(tap is None for tap in taps):
+            continue
+        old = taps[0].image
+        image = None
+        if b in files:
+            image = bpy.data.images.load(files[b], check_existing=False)
+            image.name = f"{BAKED_LAYER} {b}"
+            image.source = "SEQUENCE"
+            image.colorspace_settings.is_data = True
+            image[TAG] = True
+        for tap in taps:
+            tap.image = image
+            if image is not None:
+                user = tap.image_user
+                user.frame_start, user.frame_offset = first, first - 1
+                user.frame_duration, user.use_auto_refresh = last - first + 1, True
+        if (old is not None and old.get(TAG) and old.name.startswith(BAKED_LAYER)
+                and old.users == 0):
+            bpy.data.batch_remove([old])
+
+
 def layer_images():
     """Our slope layer images (the save and render-done handlers pack them: written, not
     packed, each frame, they would be offered as 'modified images' at closing)."""

@@ -10,7 +10,7 @@ import numpy as np
 from ...shaders import water
 from ...shaders.nodes import assign
 from .. import Camera, build_grid, effects, memory, shading
-from . import companions, mesh, objects, scene, shot
+from . import bake, companions, mesh, objects, scene, shot
 from .state import RUNTIME
 
 
@@ -64,6 +64,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     if render is None:
         render = depsgraph.mode == "RENDER"
     ocean = app.ocean
+    if bake.is_baked(ocean):
+        return None  # it plays its bake (bake.py): nothing of it is rebuilt
     making = not render and not RUNTIME.rendering
 
     # Read: what draws it, whether it shows, and every input of the rebuild.

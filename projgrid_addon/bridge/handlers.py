@@ -13,7 +13,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...shaders import water
-from . import companions, frame, scene
+from . import bake, companions, frame, scene
 from .state import RUNTIME
 
 LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
@@ -39,6 +39,8 @@ def frame_change_post(the_scene, depsgraph=None):
     if not render:
         scene.note_updates(the_scene, [u.id for u in depsgraph.updates], len(bpy.data.objects))
     frame.update_scene(the_scene, depsgraph, render, frame_change=True)
+    if RUNTIME.baking:
+        bake.progress(the_scene.frame_current)
 
 
 def _forget_deleted(object_count):

@@ -9,7 +9,9 @@ from bpy.props import (
     FloatProperty,
     FloatVectorProperty,
     IntProperty,
+    IntVectorProperty,
     PointerProperty,
+    StringProperty,
 )
 
 from ...shaders import water
@@ -161,6 +163,10 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     source: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                             description="On a stand-in of ours: the ocean whose sea it draws "
                             "(a linked, overridden or instanced ocean we may not write)")
+    bake_camera: StringProperty(options={"HIDDEN"}, description="The camera the ocean's bake "
+                                "was made for (empty: not baked; bake.py)")
+    bake_frames: IntVectorProperty(size=2, options={"HIDDEN"},
+                                   description="The first and last frame of the ocean's bake")
     active_effects: EnumProperty(
         name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
         description="The effects on for the current frame (read-only)",
