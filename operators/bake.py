@@ -42,11 +42,14 @@ class PROJGRID_OT_bake(bpy.types.Operator):
         print(f"Projected Grid Ocean: baking {obj.name!r}, frames {self.frame_start}-"
               f"{self.frame_end}, into {self.filepath}", flush=True)
         try:
-            path = bake.bake(context, obj, self.filepath, self.frame_start, self.frame_end)
+            path, warning = bake.bake(context, obj, self.filepath, self.frame_start,
+                                      self.frame_end)
         except (ValueError, RuntimeError) as err:
-            self.report({"ERROR"}, f"Bake not made, the ocean stays live: {err}")
+            self.report({"ERROR"}, f"Bake not made, the ocean is live: {err}")
             return {"CANCELLED"}
         size = os.path.getsize(path) / 2**20
         self.report({"INFO"}, f"Baked {obj.name!r}, frames {self.frame_start}-{self.frame_end}, "
                     f"into {path} ({size:.0f} MB); it now plays the bake")
+        if warning:
+            self.report({"WARNING"}, f"Baked {obj.name!r}: {warning}")
         return {"FINISHED"}

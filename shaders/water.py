@@ -574,11 +574,24 @@ def update_layer(mat, slopes, lookups, origin):
 BAKED_LAYER = "Projected Grid Bake Slopes"  # and the band's number: a bake's image sequence
 
 
+def group_tree(mat):
+    """Our water group's node tree in material `mat` (None if it has none of ours)."""
+    node = mat.node_tree.nodes.get(GROUP)
+    tree = node.node_tree if node is not None and node.type == "GROUP" else None
+    return tree if tree is not None and tree.get(TAG) and tree.library is None else None
+
+
+def _taps(nodes, b):
+    """The slope layer's four texture nodes of band b (None if the material lacks them)."""
+    taps = [nodes.get(f"Layer {b} Tap {t}") for t in range(4)]
+    return None if any(tap is None for tap in taps) else taps
+
+
 def layer_taps(mat):
     """(band, image) of the slope layer's texture nodes in our material (image None if unset)."""
     nodes = mat.node_tree.nodes
-    return [(b, nodes[f"Layer {b} Tap 0"].image) for b in range(1, LAYER_BANDS + 1)
-            if f"Layer {b} Tap 0" in nodes]
+    return [(b, taps[0].image) for b in range(1, LAYER_BANDS + 1)
+            if (taps := _taps(nodes, b)) is not None]
 
 
 def play_layer_sequences(mat, files, first, last):
@@ -587,8 +600,8 @@ def play_layer_sequences(mat, files, first, last):
     each frame (the bake's sequences removed, update_layer makes new images)."""
     nodes = mat.node_tree.nodes
     for b in range(1, LAYER_BANDS + 1):
-        taps = [nodes.get(f"Layer {b} Tap {t}") for t in range(4)]
-        if any(tap is None for tap in taps):
+        taps = _taps(nodes, b)
+        if taps is None:
             continue
         old = taps[0].image
         image = None

@@ -8,11 +8,14 @@ writes it with the attributes the material reads (the projector UV map under its
 foam, detail); not its normals, which Blender computes alike from the positions (2.5 MB a frame
 at 257x513 instead of 8.5). The exporter samples a mesh per frame only for objects that change
 with time, so the ocean carries a modifier of ours whose output depends on the scene time (and
-moves nothing) while it writes. The file is written beside the target and renamed onto it only
-when whole, and the ocean is switched only then: a failed bake leaves it live.
+moves nothing) while it writes. As it steps, the frame handler records what our material is
+given each frame (`progress`): the inputs that change are keyed afterwards, the slope layer's
+images saved as numbered EXR files. Everything is written beside its target and renamed onto
+it only when whole, and the ocean is switched only then: a failed bake leaves it live.
 """
 
 import os
+import shutil
 import tempfile
 from dataclasses import dataclass, field
 
@@ -20,7 +23,7 @@ import bpy
 import numpy as np
 
 from ...shaders import water
-from . import scene
+from . import mesh, scene, shot
 from .state import RUNTIME
 
 MODIFIER = "Projected Grid Bake"
@@ -31,17 +34,20 @@ SCRATCH = "Projected Grid Bake Scratch"
 
 @dataclass
 class Recording:
-    """What a bake records of each frame as the exporter steps through them: the material's
-    socket values (keyed afterwards where they change) and the slope layer's images (written
-    as numbered EXR files beside the cache)."""
+    """What a bake records of each frame as the exporter steps through them: our material's
+    socket values (keyed afterwards where they change), the group's muted branches, and the
+    slope layer's images (written as numbered EXR files into `slopes`, a folder renamed onto
+    its target when the bake is whole)."""
 
     first: int
     last: int
     ocean: str
-    slopes: str  # the folder of the layer's image sequences
+    slopes: str
+    animated: set  # socket paths the user or we already animate: not recorded
     values: dict = field(default_factory=dict)  # socket path -> {frame: value}
-    images: dict = field(default_factory=dict)  # band -> first frame's file
-    written: set = field(default_factory=set)  # every file written, removed if the bake fails
+    muted: dict = field(default_factory=dict)  # node name -> {frame: muted}
+    images: dict = field(default_factory=dict)  # band -> first frame's file name
+    error: str | None = None  # what went wrong in the handler (Blender swallows it there)
 
 
 def cache_modifier(obj):
@@ -54,7 +60,7 @@ def is_baked(obj):
     return cache_modifier(obj) is not None
 
 
-def check(the_scene, obj, filepath, frame_start, frame_end):
+def check(the_scene, view_layer, obj, filepath, frame_start, frame_end):
     """The bake's inputs, or ValueError naming the one that is wrong. Returns the absolute path
     of the file to write."""
     if obj is None or obj.type != "MESH" or not obj.projgrid.is_ocean:
@@ -62,21 +68,27 @@ def check(the_scene, obj, filepath, frame_start, frame_end):
     if not scene.writable(obj):
         raise ValueError(f"object: {obj.name!r} is linked or overridden from a library; bake "
                          "it in its own file")
-    if the_scene.camera is None:
-        raise ValueError("camera: the scene has no camera to bake the ocean for")
+    if not scene.owns(obj.data):
+        raise ValueError(f"object: {obj.name!r} draws a mesh that is not ours; Add Ocean makes "
+                         "a new ocean")
+    if not obj.visible_get(view_layer=view_layer):
+        raise ValueError(f"object: {obj.name!r} is hidden; show it to bake it")
     if frame_start > frame_end:
         raise ValueError(f"frame_start: {frame_start} is after frame_end {frame_end}")
     if frame_start < the_scene.frame_start or frame_end > the_scene.frame_end:
         raise ValueError(f"frame_start, frame_end: {frame_start}-{frame_end} is outside the "
                          f"scene's frames {the_scene.frame_start}-{the_scene.frame_end}")
-    cameras = {shot_camera(the_scene, frame_start).name} | {
-        m.camera.name for m in the_scene.timeline_markers
-        if m.camera is not None and frame_start < m.frame <= frame_end}
+    cameras = {shot.scene_camera(the_scene, frame=f) for f in range(frame_start, frame_end + 1)}
+    if None in cameras:
+        raise ValueError("camera: the scene has no camera to bake the ocean for")
     if len(cameras) > 1:
-        raise ValueError(f"frame_end: timeline markers switch between cameras {sorted(cameras)} "
-                         f"within frames {frame_start}-{frame_end}; bake each camera's frames "
-                         "apart")
-    path = bpy.path.abspath(filepath) if filepath else ""
+        raise ValueError(f"frame_end: timeline markers switch between cameras "
+                         f"{sorted(c.name for c in cameras)} within frames "
+                         f"{frame_start}-{frame_end}; bake each camera's frames apart")
+    if filepath.startswith("//") and not bpy.data.filepath:
+        raise ValueError(f"filepath: {filepath!r} is relative to the .blend, which is not saved "
+                         "yet; save it first or give a full path")
+    path = bpy.path.abspath(filepath)
     if not path.lower().endswith((".usd", ".usdc", ".usda")):
         raise ValueError(f"filepath: {filepath!r} is not a USD file (.usdc, .usd or .usda)")
     folder = os.path.dirname(path) or "."
@@ -89,80 +101,99 @@ def check(the_scene, obj, filepath, frame_start, frame_end):
     return path
 
 
-def shot_camera(the_scene, frame):
-    """The camera at `frame` as Blender switches cameras: that of the last timeline marker
-    binding one at or before it, else of the first marker binding one, else the scene's."""
-    bound = [m for m in the_scene.timeline_markers if m.camera is not None]
-    before = [m for m in bound if m.frame <= frame]
-    if before:
-        return max(before, key=lambda m: m.frame).camera
-    return min(bound, key=lambda m: m.frame).camera if bound else the_scene.camera
-
-
 def bake(context, obj, filepath, frame_start, frame_end):
     """Write frames frame_start..frame_end of ocean `obj` into `filepath` and switch it to play
-    them. Raises ValueError (bad input) or RuntimeError (the export failed); in both cases the
-    ocean stays live and the scene as it was."""
-    the_scene = context.scene
-    path = check(the_scene, obj, filepath, frame_start, frame_end)
+    them; returns (the file's absolute path, a warning or None). Raises ValueError (bad input)
+    or RuntimeError (the export failed); in both cases the ocean is live (an earlier bake of it
+    undone) and the scene as it was."""
+    the_scene, view_layer = context.scene, context.view_layer
+    path = check(the_scene, view_layer, obj, filepath, frame_start, frame_end)
+    free(obj)  # a bake again: the exporter must see the live sea
     stem, ext = os.path.splitext(path)
-    partial = f"{stem}.partial{ext}"
-    kept = (the_scene.frame_start, the_scene.frame_end, the_scene.frame_current,
-            [o for o in context.view_layer.objects if o.select_get()],
-            context.view_layer.objects.active)
+    partial, slopes = f"{stem}.partial{ext}", f"{stem}_slopes"
+    frame_range, frame = (the_scene.frame_start, the_scene.frame_end), the_scene.frame_current
+    selected, active = [o for o in view_layer.objects if o.select_get()], view_layer.objects.active
+    mat = water.material_of(obj.data)
+    recording = Recording(frame_start, frame_end, obj.name, tempfile.mkdtemp(dir=folder_of(path)),
+                          _animated(mat.node_tree) if mat is not None else set())
     timer = obj.modifiers.new(TIMER, "NODES")
     timer.node_group = _time_group()
     wm = context.window_manager
-    recording = RUNTIME.baking = Recording(frame_start, frame_end, obj.name,
-                                           f"{os.path.splitext(path)[0]}_slopes")
+    RUNTIME.baking = recording
     wm.progress_begin(frame_start, frame_end)
-    whole = False
     try:
         the_scene.frame_start, the_scene.frame_end = frame_start, frame_end
-        for o in kept[3]:
+        for o in selected:
             o.select_set(False)
         obj.select_set(True)
-        context.view_layer.objects.active = obj
+        view_layer.objects.active = obj
         with context.temp_override(selected_objects=[obj], active_object=obj):
             done = bpy.ops.wm.usd_export(
                 filepath=partial, check_existing=False, selected_objects_only=True,
                 export_animation=True, evaluation_mode="RENDER", export_materials=False,
                 rename_uvmaps=False, export_normals=False, export_custom_properties=False,
-                export_lights=False, export_cameras=False)
+                export_lights=False, export_cameras=False, allow_unicode=False)
+        if recording.error:
+            raise RuntimeError(recording.error)
         if "FINISHED" not in done or not os.path.exists(partial):
             raise RuntimeError("the USD export did not finish")
         os.replace(partial, path)
-        whole = True
+        if recording.images:
+            if os.path.isdir(slopes):
+                shutil.rmtree(slopes)
+            os.replace(recording.slopes, slopes)
+            recording.slopes = slopes
     except OSError as err:
         raise RuntimeError(f"writing {path!r} failed: {err.strerror}") from None
     finally:
         RUNTIME.baking = None
         wm.progress_end()
-        for name in [partial] + ([] if whole else sorted(recording.written)):
-            if os.path.exists(name):
-                os.remove(name)
-        if not whole and os.path.isdir(recording.slopes) and not os.listdir(recording.slopes):
-            os.rmdir(recording.slopes)
+        if recording.slopes != slopes:  # the frames' images of a bake not made
+            shutil.rmtree(recording.slopes, ignore_errors=True)
+        leftover = os.path.basename(stem) + ".partial."  # ours, and USD's temporary files
+        for name in os.listdir(folder_of(path)):
+            full = os.path.join(folder_of(path), name)
+            if name.startswith(leftover) and os.path.isfile(full):
+                try:
+                    os.remove(full)
+                except OSError:
+                    pass  # the error being raised says more
         obj.modifiers.remove(timer)
-        the_scene.frame_start, the_scene.frame_end = kept[0], kept[1]
-        for o in context.view_layer.objects:
-            o.select_set(o in kept[3])
-        context.view_layer.objects.active = kept[4]
-        the_scene.frame_set(kept[2])
-    _play(obj, path, shot_camera(the_scene, frame_start).name, frame_start, frame_end,
-          recording)
-    return path
+        for block in (bpy.data.node_groups.get(TIMER), bpy.data.images.get(SCRATCH)):
+            if block is not None and block.get(scene.TAG) and block.users == 0:
+                bpy.data.batch_remove([block])
+        the_scene.frame_start, the_scene.frame_end = frame_range
+        for o in view_layer.objects:
+            o.select_set(o in selected)
+        view_layer.objects.active = active
+        the_scene.frame_set(frame)
+    try:
+        return path, _play(obj, path, filepath.startswith("//"), recording)
+    except Exception as err:
+        free(obj)
+        raise RuntimeError(f"playing {path!r} failed: {err}") from err
+
+
+def folder_of(path):
+    return os.path.dirname(path) or "."
 
 
 def progress(frame):
     """A frame of the bake being written (the frame handler calls it, after the frame's
     update): recorded, and shown on the command line and the window's progress indicator."""
     recording = RUNTIME.baking
-    if not recording.first <= frame <= recording.last:
+    if not recording.first <= frame <= recording.last or recording.error:
         return
     print(f"Projected Grid Ocean: baking frame {frame} ({frame - recording.first + 1} of "
           f"{recording.last - recording.first + 1})", flush=True)
     bpy.context.window_manager.progress_update(frame)
+    try:
+        _record(recording, frame)
+    except (OSError, RuntimeError, ValueError) as err:  # raised again after the export
+        recording.error = f"recording frame {frame} failed: {err}"
+
+
+def _record(recording, frame):
     obj = bpy.data.objects.get(recording.ocean)
     mat = water.material_of(obj.data) if obj is not None else None
     if mat is None:
@@ -170,15 +201,18 @@ def progress(frame):
     for node in mat.node_tree.nodes:
         for socket in node.inputs:
             value = getattr(socket, "default_value", None) if not socket.is_linked else None
-            if isinstance(value, (float, int)) or (hasattr(value, "__len__") and len(value) <= 4
-                                                   and not isinstance(value, str)):
+            if isinstance(value, float) or (hasattr(value, "__len__") and len(value) <= 4
+                                            and not isinstance(value, str)):
                 path = socket.path_from_id("default_value")
-                recording.values.setdefault(path, {})[frame] = (
-                    (float(value),) if isinstance(value, (float, int)) else tuple(value))
+                if path not in recording.animated:
+                    recording.values.setdefault(path, {})[frame] = (
+                        (value,) if isinstance(value, float) else tuple(value))
+    group = water.group_tree(mat)
+    for node in group.nodes if group is not None else ():
+        recording.muted.setdefault(node.name, {})[frame] = node.mute
     for b, image in water.layer_taps(mat):
         if image is None:
             continue
-        os.makedirs(recording.slopes, exist_ok=True)
         name = os.path.join(recording.slopes, f"band{b}_{frame:04d}.exr")
         scratch = _scratch(image.size)
         pixels = np.empty(len(image.pixels), np.float32)
@@ -186,8 +220,7 @@ def progress(frame):
         scratch.pixels.foreach_set(pixels)
         scratch.filepath_raw = name
         scratch.save()
-        recording.written.add(name)
-        recording.images.setdefault(b, name)
+        recording.images.setdefault(b, os.path.basename(name))
 
 
 def _scratch(size):
@@ -203,38 +236,71 @@ def _scratch(size):
     return image
 
 
-def _play(obj, path, camera, frame_start, frame_end, recording):
-    """Switch `obj` to play the bake at `path` (its mesh's prim under the exporter's root), its
-    material's changing inputs keyed and its slope layer read from the image sequences."""
-    free(obj)
+def _play(obj, path, relative, recording):
+    """Switch `obj` to play the bake at `path`: its mesh's prim under the exporter's root, last
+    of its modifiers (what the exporter wrote is the ocean after the user's modifiers), its
+    material's changing inputs keyed, the branches any frame needs switched on, and its slope
+    layer read from the image sequences. Returns a warning or None."""
     before = set(bpy.data.cache_files)
     bpy.ops.cachefile.open(filepath=path)
     cache = next(c for c in bpy.data.cache_files if c not in before)
     cache[scene.TAG] = True
-    cache.filepath = _relative(path)
+    if relative:
+        cache.filepath = bpy.path.relpath(path)
     mod = obj.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
     mod.cache_file = cache
-    mod.object_path = f"/root/{_prim(obj.name)}/{_prim(obj.data.name)}"
     mod.read_data = {"VERT", "POLY", "UV", "COLOR", "ATTRIBUTES"}
-    if obj.modifiers.find(MODIFIER) > 0:  # first: the user's modifiers act on the sea
-        with bpy.context.temp_override(object=obj, active_object=obj):
-            bpy.ops.object.modifier_move_to_index(modifier=MODIFIER, index=0)
-    obj.projgrid.bake_camera = camera
-    obj.projgrid.bake_frames = (frame_start, frame_end)
+    obj.projgrid.bake_camera = shot.scene_camera(bpy.context.scene,
+                                                 frame=recording.first).name
+    obj.projgrid.bake_frames = (recording.first, recording.last)
+    RUNTIME.state(obj).key = None
+    mesh.empty(obj.data)  # the cache gives the mesh: what is left is empty if it gives none
+    chain = [obj.data.name, obj.name]
+    parent = obj.parent
+    while parent is not None:
+        chain.append(parent.name)
+        parent = parent.parent
+    # The exporter's prim names: USD's valid identifiers, made per character or (older USD)
+    # per byte of a name's UTF-8.
+    for per_byte in (False, True):
+        mod.object_path = "/root/" + "/".join(_prim(n, per_byte) for n in reversed(chain))
+        if len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices):
+            break
+    else:
+        raise RuntimeError(f"the cache holds no mesh at {mod.object_path}")
     mat = water.material_of(obj.data)
+    warning = None
     if mat is not None:
         _key(mat.node_tree, recording.values)
-        water.play_layer_sequences(mat, {b: _relative(f) for b, f in recording.images.items()},
-                                   frame_start, frame_end)
-    scratch = bpy.data.images.get(SCRATCH)
-    if scratch is not None:
-        bpy.data.batch_remove([scratch])
-    RUNTIME.state(obj).key = None
+        files = {b: os.path.join(recording.slopes, name) for b, name in recording.images.items()}
+        water.play_layer_sequences(mat, {b: bpy.path.relpath(f) if relative else f
+                                         for b, f in files.items()},
+                                   recording.first, recording.last)
+        switched = [n for n, frames in recording.muted.items() if len(set(frames.values())) > 1]
+        if switched:
+            for name in switched:
+                water.group_tree(mat).nodes[name].mute = False
+            warning = ("effects switch on and off within the frames: the bake draws them on "
+                       "throughout (bake the frames apart to keep the switch)")
+    return warning
 
 
-def _relative(path):
-    """`path` relative to the saved .blend ("//"), so the file and its bake move together."""
-    return bpy.path.relpath(path) if bpy.data.filepath else path
+def _prim(name, per_byte):
+    """A Blender name as the USD exporter makes a prim name of it without unicode: each
+    character (or each byte of it) that is not an ASCII letter, digit or underscore becomes an
+    underscore, and a leading digit gets one before it."""
+    parts = name.encode() if per_byte else name
+    out = "".join(c if c.isascii() and (c.isalnum() or c == "_") else "_"
+                  for c in (map(chr, parts) if per_byte else parts))
+    return out if out and not out[0].isdigit() else "_" + out
+
+
+def _animated(tree):
+    """The data paths of `tree` that drivers or keyframes animate already."""
+    data = tree.animation_data
+    if data is None:
+        return set()
+    return {d.data_path for d in data.drivers} | {c.data_path for c in _bag_curves(tree)}
 
 
 def _key(tree, values):
@@ -248,44 +314,45 @@ def _key(tree, values):
             socket.default_value = value[0] if len(value) == 1 else value
             socket.keyframe_insert("default_value", frame=frame)
         keyed.append(path)
-    for curve in _curves(tree, keyed):
-        for point in curve.keyframe_points:
-            point.interpolation = "CONSTANT"
+    for curve in _bag_curves(tree):
+        if curve.data_path in keyed:
+            for point in curve.keyframe_points:
+                point.interpolation = "CONSTANT"
     tree[KEYED] = keyed
 
 
-def _unkey(tree):
-    """The keyframes `_key` made, removed."""
-    curves = _curves(tree, list(tree.get(KEYED, [])))
-    if curves:
-        from bpy_extras import anim_utils
+def _bag_curves(tree):
+    """The F-curves of `tree`'s action for it (none without one)."""
+    bag = _channelbag(tree)
+    return list(bag.fcurves) if bag is not None else []
 
-        data = tree.animation_data
-        bag = anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
-        for curve in curves:
+
+def _channelbag(tree):
+    data = tree.animation_data
+    if data is None or data.action is None:
+        return None
+    from bpy_extras import anim_utils
+
+    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
+
+
+def _unkey(tree):
+    """The keyframes `_key` made, removed (and the action, if they were all it held)."""
+    keyed = set(tree.get(KEYED, []))
+    bag = _channelbag(tree)
+    if bag is not None:
+        for curve in [c for c in bag.fcurves if c.data_path in keyed]:
             bag.fcurves.remove(curve)
+        action = tree.animation_data.action
+        if keyed and not len(bag.fcurves) and action.users == 1:
+            tree.animation_data.action = None
+            bpy.data.actions.remove(action)
     tree.pop(KEYED, None)
 
 
-def _curves(tree, paths):
-    """The F-curves of `tree` animating `paths`."""
-    data = tree.animation_data
-    if data is None or data.action is None or not paths:
-        return []
-    from bpy_extras import anim_utils
-
-    bag = anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
-    return [c for c in (bag.fcurves if bag is not None else []) if c.data_path in paths]
-
-
-def _prim(name):
-    """A Blender name as the USD exporter makes a prim name of it."""
-    out = "".join(c if c.isalnum() or c == "_" else "_" for c in name)
-    return out if out and not out[0].isdigit() else "_" + out
-
-
 def free(obj):
-    """Back to live: our cache modifier and its cache file removed (the file stays on disk)."""
+    """Back to live: our cache modifier, keyframes, layer sequences and cache file removed (the
+    files stay on disk). Returns whether there was a bake."""
     mod = cache_modifier(obj)
     if mod is None:
         return False
@@ -300,20 +367,22 @@ def free(obj):
             for m in o.modifiers):
         bpy.data.batch_remove([cache])
     obj.projgrid.bake_camera = ""
+    obj.projgrid.bake_frames = (0, 0)
     RUNTIME.state(obj).key = None
     return True
 
 
 def stale(the_scene, obj):
     """Why the bake of `obj` no longer matches the scene (a line for the panel), or None."""
-    if not is_baked(obj):
+    mod = cache_modifier(obj)
+    if mod is None:
         return None
     start, end = obj.projgrid.bake_frames
-    camera = shot_camera(the_scene, start)
+    camera = shot.scene_camera(the_scene, frame=start)
     camera = camera.name if camera is not None else ""
     if camera != obj.projgrid.bake_camera:
         return f"baked for camera {obj.projgrid.bake_camera!r}, the scene's is {camera!r}"
-    if not os.path.exists(bpy.path.abspath(cache_modifier(obj).cache_file.filepath)):
+    if mod.cache_file is None or not os.path.exists(bpy.path.abspath(mod.cache_file.filepath)):
         return "its cache file is missing"
     if the_scene.frame_start < start or the_scene.frame_end > end:
         return (f"baked frames {start}-{end}, the scene renders "

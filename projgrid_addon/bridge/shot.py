@@ -13,15 +13,17 @@ def render_size(scene):
             r.pixel_aspect_x, r.pixel_aspect_y)
 
 
-def scene_camera(scene, frame_change=True):
-    """The camera this frame renders with. On a frame change, the timeline markers' camera
-    switch, which Blender applies to `scene.camera` only after frame_change_post
-    (BKE_scene_camera_switch_find); between frames, the camera the user set."""
+def scene_camera(scene, frame_change=True, frame=None):
+    """The camera this frame (or `frame`) renders with. On a frame change, the timeline
+    markers' camera switch, which Blender applies to `scene.camera` only after
+    frame_change_post (BKE_scene_camera_switch_find); between frames, the camera the user
+    set."""
     markers = [(m.frame, m.camera) for m in scene.timeline_markers
                if m.camera is not None and not m.camera.hide_render]
     if not markers or not frame_change:
         return scene.camera
-    past = [m for m in markers if m[0] <= scene.frame_current]
+    frame = scene.frame_current if frame is None else frame
+    past = [m for m in markers if m[0] <= frame]
     if past:
         return max(past, key=lambda m: m[0])[1]
     return min(markers, key=lambda m: m[0])[1]

@@ -49,15 +49,15 @@ FRESH = textwrap.dedent("""
     blend, out, root = sys.argv[1:4]
     sys.path.insert(0, root)
     from tests.blender.helpers import positions
-    assert "bl_ext.user_default.projected_grid_ocean" not in sys.modules
     bpy.ops.wm.open_mainfile(filepath=blend)
+    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
     scene, seen = bpy.context.scene, {}
     ocean = bpy.data.objects["Ocean"]
     for frame in (1, 2, 3):
         scene.frame_set(frame)
         mesh = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
         seen[str(frame)] = positions(mesh).copy()
-        seen["names"] = np.array(sorted(a.name for a in mesh.attributes))
+    seen["names"] = np.array(sorted(a.name for a in mesh.attributes))
     np.savez(out, **seen)
 """)
 
@@ -106,8 +106,13 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
     assert not bridge.bake.is_baked(obj) and obj.projgrid.bake_camera == ""
     assert not [c for c in bpy.data.cache_files]
+    tree = obj.data.materials[0].node_tree
+    assert bridge.bake.KEYED not in tree and not bridge.bake._bag_curves(tree)
+    assert not [i for i in bpy.data.images if i.name.startswith("Projected Grid Bake")]
     scene.frame_set(2)
     assert len(obj.data.vertices) == 65 * 129  # rebuilt live again
+    assert all(image.name.startswith("Projected Grid Slopes")
+               for _, image in extension.shaders.water.layer_taps(obj.data.materials[0]))
 
 
 @pytest.mark.parametrize("kwargs, setting", [
@@ -116,6 +121,8 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     (dict(filepath="/proc/no/sea.usdc"), "filepath"),
     (dict(filepath="//sea.abc"), "filepath"),
     (dict(marker=True), "frame_end"),
+    (dict(hidden=True), "object"),
+    (dict(filepath="//sea.usdc"), "filepath"),  # the .blend is not saved
 ])
 def test_bad_input_leaves_the_ocean_live(moving, bridge, tmp_path, kwargs, setting):
     scene, obj = moving
@@ -124,6 +131,8 @@ def test_bad_input_leaves_the_ocean_live(moving, bridge, tmp_path, kwargs, setti
         scene.collection.objects.link(other)
         scene.timeline_markers.new("shot", frame=1).camera = scene.camera
         scene.timeline_markers.new("cut", frame=2).camera = other
+    if kwargs.pop("hidden", False):
+        obj.hide_set(True)
     kwargs = {"filepath": str(tmp_path / "sea.usdc"), "frame_start": 1, "frame_end": 3,
               **kwargs}
     with pytest.raises(RuntimeError, match=f"Bake not made.*{setting}: "):
@@ -136,8 +145,8 @@ RENDER_FRESH = textwrap.dedent("""
     import sys
     import bpy
     blend, frame, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-    assert "bl_ext.user_default.projected_grid_ocean" not in sys.modules
     bpy.ops.wm.open_mainfile(filepath=blend)
+    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
     scene = bpy.context.scene
     scene.frame_set(frame)
     scene.render.filepath = out
@@ -182,3 +191,60 @@ def test_a_baked_frame_renders_as_the_live_one_without_the_extension(tmp_path):
     # EEVEE draws the same inputs the same in both processes (equal here): without the keyed
     # inputs and the layer's sequences the frame differed by 0.003 on average.
     assert diff.mean() <= 5e-4, diff.mean()
+
+
+def test_a_bake_restores_the_scene_and_bakes_again_from_the_live_sea(moving, bridge, tmp_path):
+    """The frame range, current frame, selection and active object are as they were; a bake
+    made again over a baked ocean records the live sea (not the old bake) and replaces it."""
+    scene, obj = moving
+    scene.frame_set(3)
+    path = str(tmp_path / "sea.usdc")
+    assert bpy.ops.projgrid.bake(filepath=path, frame_start=1, frame_end=2) == {"FINISHED"}
+    assert (scene.frame_start, scene.frame_end, scene.frame_current) == (1, 3, 3)
+    assert bpy.context.view_layer.objects.active == obj
+    assert [o.name for o in bpy.context.view_layer.objects if o.select_get()] == ["Ocean"]
+
+    def played():
+        scene.frame_set(2)
+        return positions(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data).copy()
+
+    first = played()
+    obj.projgrid.seed += 1  # another sea: a second bake must record it, not the first bake
+    assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
+    want = live(scene, obj, bridge, 2)
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=2) == {"FINISHED"}
+    obj.projgrid.seed -= 1
+    assert bpy.ops.projgrid.bake(filepath=path, frame_start=1, frame_end=2) == {"FINISHED"}
+    obj.projgrid.seed += 1
+    assert bpy.ops.projgrid.bake(filepath=path, frame_start=1, frame_end=2) == {"FINISHED"}
+    assert len([m for m in obj.modifiers if m.type == "MESH_SEQUENCE_CACHE"]) == 1
+    again = played()
+    assert np.allclose(again, want, rtol=1e-6, atol=1e-5) and not np.allclose(again, first)
+    assert sorted(os.listdir(tmp_path)) == ["sea.usdc", "sea_slopes"]
+
+
+def test_a_parented_ocean_with_any_name_plays_its_bake(moving, bridge, tmp_path):
+    """The cache's mesh is found under the exporter's names for a parent and a non-ASCII name."""
+    scene, obj = moving
+    rig = bpy.data.objects.new("Rig 1", None)
+    scene.collection.objects.link(rig)
+    obj.parent = rig
+    obj.name = "Océan"
+    want = live(scene, obj, bridge, 2)
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=2) == {"FINISHED"}
+    scene.frame_set(2)
+    played = positions(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data)
+    assert np.allclose(played, want, rtol=1e-6, atol=1e-5)
+
+
+def test_a_failed_export_leaves_the_ocean_live_and_nothing_behind(moving, bridge, tmp_path):
+    scene, obj = moving
+    (tmp_path / "sea.partial.usdc").mkdir()  # the exporter cannot write its file
+    with pytest.raises(RuntimeError, match="Bake not made"):
+        bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
+    assert not bridge.bake.is_baked(obj) and not obj.modifiers
+    assert not [n for n in os.listdir(tmp_path) if n != "sea.partial.usdc"]
+    assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
+    assert bpy.data.images.get(bridge.bake.SCRATCH) is None
