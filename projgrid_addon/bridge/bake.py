@@ -24,12 +24,17 @@ import numpy as np
 
 from ...shaders import water
 from . import mesh, scene, shot
+from .companions import COMPANIONS
 from .state import RUNTIME
 
 MODIFIER = "Projected Grid Bake"
 TIMER = "Projected Grid Bake Time"  # the node group that makes the exporter sample each frame
 KEYED = "projgrid_bake_keys"  # on our material's node tree: the socket paths the bake keyed
 SCRATCH = "Projected Grid Bake Scratch"
+# What our companions are given each frame (companions.place_companions): keyed where it changes.
+COMPANION_PROPS = (("object", "location"), ("object", "scale"), ("object", "hide_render"),
+                   ("data", "clip_start"), ("data", "clip_end"),
+                   ("data", "parallax_distance"))
 
 
 @dataclass
@@ -47,6 +52,7 @@ class Recording:
     values: dict = field(default_factory=dict)  # socket path -> {frame: value}
     muted: dict = field(default_factory=dict)  # node name -> {frame: muted}
     images: dict = field(default_factory=dict)  # band -> first frame's file name
+    companions: dict = field(default_factory=dict)  # (name, data path) -> {frame: value}
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
 
 
@@ -210,6 +216,14 @@ def _record(recording, frame):
     group = water.group_tree(mat)
     for node in group.nodes if group is not None else ():
         recording.muted.setdefault(node.name, {})[frame] = node.mute
+    for companion in _companions(obj):
+        for owner, prop in COMPANION_PROPS:
+            target = companion.data if owner == "data" else companion
+            if hasattr(target, prop):
+                value = getattr(target, prop)
+                key = (companion.name, f"{owner}.{prop}")
+                recording.companions.setdefault(key, {})[frame] = (
+                    tuple(value) if hasattr(value, "__len__") else value)
     for b, image in water.layer_taps(mat):
         if image is None:
             continue
@@ -268,6 +282,12 @@ def _play(obj, path, relative, recording):
             break
     else:
         raise RuntimeError(f"the cache holds no mesh at {mod.object_path}")
+    for companion in _companions(obj):
+        _key_companion(companion, recording.companions)
+        if companion.data == obj.data:  # the shadow caster draws the ocean's mesh: the cache
+            caster = companion.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
+            caster.cache_file, caster.object_path = cache, mod.object_path
+            caster.read_data = mod.read_data
     mat = water.material_of(obj.data)
     warning = None
     if mat is not None:
@@ -293,6 +313,28 @@ def _prim(name, per_byte):
     out = "".join(c if c.isascii() and (c.isalnum() or c == "_") else "_"
                   for c in (map(chr, parts) if per_byte else parts))
     return out if out and not out[0].isdigit() else "_" + out
+
+
+def _companions(obj):
+    """Our companions of ocean `obj` (companions.py)."""
+    out = [getattr(obj.projgrid, prop) for prop in COMPANIONS]
+    return [c for c in out if c is not None and scene.owns(c) and scene.local(c)]
+
+
+def _key_companion(companion, recorded):
+    """Keyframes (constant) on our companion for what it was given differently across frames;
+    the animation data a bake gives a companion is all it has (free clears it)."""
+    for (name, path), frames in recorded.items():
+        if name != companion.name or len(set(frames.values())) < 2:
+            continue
+        owner, prop = path.split(".")
+        target = companion.data if owner == "data" else companion
+        for frame, value in sorted(frames.items()):
+            setattr(target, prop, value)
+            target.keyframe_insert(prop, frame=frame)
+        for curve in _bag_curves(target):
+            for point in curve.keyframe_points:
+                point.interpolation = "CONSTANT"
 
 
 def _animated(tree):
@@ -358,6 +400,16 @@ def free(obj):
         return False
     cache = mod.cache_file
     obj.modifiers.remove(mod)
+    for companion in _companions(obj):
+        own = companion.modifiers.get(MODIFIER)
+        if own is not None:
+            companion.modifiers.remove(own)
+        for target in (companion, companion.data):
+            if target is not None and target != obj.data and _bag_curves(target):
+                action = target.animation_data.action
+                target.animation_data_clear()
+                if action.users == 0:
+                    bpy.data.actions.remove(action)
     mat = water.material_of(obj.data)
     if mat is not None:
         _unkey(mat.node_tree)

@@ -147,7 +147,7 @@ def save_pre(*_):
     for obj in bpy.data.objects:
         if (obj.type == "MESH" and (obj.projgrid.is_ocean or obj.get(scene.STAND_IN))
                 and scene.local(obj) and scene.owns(obj.data) and scene.local(obj.data)
-                and not obj.data.is_editmode):
+                and not obj.data.is_editmode and not bake.is_baked(obj)):  # as baked
             companions.empty_for_save(obj)
     pack_layer_images()
 

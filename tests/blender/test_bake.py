@@ -248,3 +248,51 @@ def test_a_failed_export_leaves_the_ocean_live_and_nothing_behind(moving, bridge
     assert not [n for n in os.listdir(tmp_path) if n != "sea.partial.usdc"]
     assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
     assert bpy.data.images.get(bridge.bake.SCRATCH) is None
+
+
+COMPANIONS_FRESH = textwrap.dedent("""
+    import sys
+    import bpy
+    import numpy as np
+    blend, out = sys.argv[1:3]
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    scene, seen = bpy.context.scene, {}
+    for frame in (1, 2):
+        scene.frame_set(frame)
+        body = bpy.data.objects["Ocean Water Body"]
+        caster = bpy.data.objects["Ocean Shadow"]
+        mesh = caster.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        seen[str(frame)] = np.array([*body.location, float(body.hide_render),
+                                     len(mesh.vertices)])
+    np.savez(out, **seen)
+""")
+
+
+def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path):
+    """With the water body and the shadow caster in use, a fresh process without the extension
+    finds the body where the live frames put it, shown, and the caster drawing the cache."""
+    scene, obj = moving
+    obj.projgrid.underwater = "ON"
+    body = obj.projgrid.water_body
+    want = {}
+    for f in (1, 2):
+        scene.frame_set(f)
+        bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(),
+                                  render=True)
+        want[f] = [*body.location, float(body.hide_render), RENDER_RES[0] * RENDER_RES[1]]
+    assert want[1][:2] != want[2][:2] and not want[1][3]  # it follows the moving camera
+    scene.frame_set(1)
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=2) == {"FINISHED"}
+    blend = str(tmp_path / "baked.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
+    out = str(tmp_path / "seen.npz")
+    env = {**os.environ, "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="no-extension-")}
+    done = subprocess.run([sys.executable, "-c", COMPANIONS_FRESH, blend, out], env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    seen = np.load(out)
+    for f in (1, 2):
+        assert np.allclose(seen[str(f)], want[f], atol=1e-5), (f, seen[str(f)], want[f])
+    assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
+    assert body.animation_data is None and not obj.projgrid.shadow_caster.modifiers

@@ -50,6 +50,8 @@ def main(quick=False, only=None):
         ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
         ("sea", lambda: blender_bench.sea_cost(repeats=5 if quick else 15)),
         ("playback", lambda: blender_bench.playback_cost(seconds=2 if quick else 3)),
+        ("bake", lambda: blender_bench.bake_cost(frames=12 if quick else 24,
+                                                 repeats=3 if quick else 7)),
         ("scene_update", lambda: blender_bench.scene_update_cost(
             counts=(0, 1000) if quick else (0, 1000, 10000), repeats=3 if quick else 7)),
         ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),

@@ -192,6 +192,44 @@ def playback_cost(seconds=3, rounds=2):
     return rows
 
 
+def bake_cost(frames=24, repeats=7):
+    """The bake (bridge/bake.py) of Add Ocean's sea at its render grid (257×513) over `frames`
+    frames: wall and CPU seconds a frame and megabytes a frame (the USD cache and the slope
+    layer's EXR files); then the per-frame time (frame_set, interleaved) of the baked ocean,
+    which reads its cache, against the same ocean live at that grid."""
+    def made(name):
+        scene = projected_scene(257)
+        scene.name = f"bake {name}"
+        obj = _ocean(scene)
+        obj.projgrid.resolution_x, obj.projgrid.resolution_y = 257, 513  # as rendered
+        scene.frame_start, scene.frame_end = 1, frames
+        scene.frame_set(1)
+        return scene, obj
+
+    folder = tempfile.mkdtemp(prefix="projgrid-bake-")
+    baked, obj = made("baked")
+    live, _ = made("live")
+    with bpy.context.temp_override(scene=baked, view_layer=baked.view_layers[0],
+                                   active_object=obj, object=obj):
+        wall, cpu = time.perf_counter(), time.process_time()
+        assert bpy.ops.projgrid.bake(filepath=os.path.join(folder, "sea.usdc"),
+                                     frame_start=1, frame_end=frames) == {"FINISHED"}
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    size = sum(os.path.getsize(os.path.join(root, f))
+               for root, _, files in os.walk(folder) for f in files)
+
+    def play(scene):
+        scene.frame_set(1 + scene.frame_current % frames)
+
+    times = interleaved({"baked (reads its cache)": lambda: play(baked),
+                         "live (builds the grid)": lambda: play(live)}, repeats)
+    for scene in (baked, live):
+        bpy.data.scenes.remove(scene)
+    return {"frames": frames, "seconds_per_frame": wall / frames, "cpu_per_frame": cpu / frames,
+            "mb_per_frame": size / 2**20 / frames,
+            "play": [{"variant": k, **v.ms()} for k, v in times.items()]}
+
+
 def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):
     """Per-frame time of `scene.frame_set` (camera update -> vertices in the Blender mesh)."""
     bpy.app.handlers.frame_change_post.append(world_grid_handler)

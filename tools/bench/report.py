@@ -557,6 +557,25 @@ def _sea(report):
                ""]
 
 
+def _bake(report):
+    """The bake's cost (bridge/bake.py)."""
+    results, md = report.results, report.md
+    bake = results.get("bake")
+    if not bake:
+        return
+    md += ["### The bake", "",
+           f"Baking Add Ocean's sea at its render grid (257×513) over {bake['frames']} frames "
+           f"(`bpy.ops.projgrid.bake`: Blender's USD exporter stepping through the frames as a "
+           f"render does, our handler building each, the material's inputs and the slope "
+           f"layer's images recorded): {bake['seconds_per_frame']:.2f} s a frame "
+           f"({bake['cpu_per_frame']:.2f} s CPU), {bake['mb_per_frame']:.1f} MB a frame "
+           f"on disk (the cache without normals, which Blender computes alike, and three "
+           f"128² EXR slope images). Playing it, per frame (frame_set, interleaved):", "",
+           _table(bake["play"], [("variant", "variant", ""), ("ms", "ms", ".1f"),
+                                 ("p10 ms", "p10_ms", ".1f"), ("CPU ms", "cpu_ms", ".1f")]),
+           ""]
+
+
 def _pictures(report):
     """§11: side-by-side shots with the Ocean modifier."""
     results, md = report.results, report.md
@@ -622,7 +641,8 @@ class Report:
 SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy),
             ("height_field", _height_field), ("precision", _precision),
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
-            ("scene_update", _scene_update), ("sea", _sea), ("pictures", _pictures),
+            ("scene_update", _scene_update), ("sea", _sea), ("bake", _bake),
+            ("pictures", _pictures),
             ("memory", _memory))
 
 
