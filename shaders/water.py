@@ -604,6 +604,8 @@ def play_layer_sequences(mat, files, first, last):
         if taps is None:
             continue
         old = taps[0].image
+        if b not in files and (old is None or not old.name.startswith(BAKED_LAYER)):
+            continue  # live images: left as they are
         image = None
         if b in files:
             image = bpy.data.images.load(files[b], check_existing=False)

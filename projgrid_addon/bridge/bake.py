@@ -33,7 +33,7 @@ KEYED = "projgrid_bake_keys"  # on our material's node tree: the socket paths th
 SCRATCH = "Projected Grid Bake Scratch"
 # What our companions are given each frame (companions.place_companions): keyed where it changes.
 COMPANION_PROPS = (("object", "location"), ("object", "scale"), ("object", "hide_render"),
-                   ("data", "clip_start"), ("data", "clip_end"),
+                   ("object", "hide_viewport"), ("data", "clip_start"), ("data", "clip_end"),
                    ("data", "parallax_distance"))
 
 
@@ -77,6 +77,9 @@ def check(the_scene, view_layer, obj, filepath, frame_start, frame_end):
     if not scene.owns(obj.data):
         raise ValueError(f"object: {obj.name!r} draws a mesh that is not ours; Add Ocean makes "
                          "a new ocean")
+    if _is_copy(obj):
+        raise ValueError(f"object: {obj.name!r} is a duplicate still sharing another ocean's "
+                         "companions and material; Back to Live on it first")
     if not obj.visible_get(view_layer=view_layer):
         raise ValueError(f"object: {obj.name!r} is hidden; show it to bake it")
     if frame_start > frame_end:
@@ -216,6 +219,7 @@ def _record(recording, frame):
     group = water.group_tree(mat)
     for node in group.nodes if group is not None else ():
         recording.muted.setdefault(node.name, {})[frame] = node.mute
+    recording.companions.setdefault(("", "hide_probe_sphere"), {})[frame] = obj.hide_probe_sphere
     for companion in _companions(obj):
         for owner, prop in COMPANION_PROPS:
             target = companion.data if owner == "data" else companion
@@ -282,8 +286,14 @@ def _play(obj, path, relative, recording):
             break
     else:
         raise RuntimeError(f"the cache holds no mesh at {mod.object_path}")
+    probe = set(recording.companions.get(("", "hide_probe_sphere"), {}).values())
+    if probe:  # out of our probe's capture on every frame if on any (the ocean is the user's
+        obj.hide_probe_sphere = True in probe  # object: not keyed; its switch warns below)
     for companion in _companions(obj):
         _key_companion(companion, recording.companions)
+        old = companion.modifiers.get(MODIFIER)
+        if old is not None:
+            companion.modifiers.remove(old)
         if companion.data == obj.data:  # the shadow caster draws the ocean's mesh: the cache
             caster = companion.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
             caster.cache_file, caster.object_path = cache, mod.object_path
@@ -315,8 +325,17 @@ def _prim(name, per_byte):
     return out if out and not out[0].isdigit() else "_" + out
 
 
+def _is_copy(obj):
+    """Whether `obj` is a duplicate whose companions and material are still another ocean's
+    (the shadow caster, parented to its ocean, tells)."""
+    caster = obj.projgrid.shadow_caster
+    return caster is not None and caster.parent not in (None, obj)
+
+
 def _companions(obj):
-    """Our companions of ocean `obj` (companions.py)."""
+    """Our companions of ocean `obj` (companions.py); none for a duplicate (`_is_copy`)."""
+    if _is_copy(obj):
+        return []
     out = [getattr(obj.projgrid, prop) for prop in COMPANIONS]
     return [c for c in out if c is not None and scene.owns(c) and scene.local(c)]
 
@@ -325,10 +344,13 @@ def _key_companion(companion, recorded):
     """Keyframes (constant) on our companion for what it was given differently across frames;
     the animation data a bake gives a companion is all it has (free clears it)."""
     for (name, path), frames in recorded.items():
-        if name != companion.name or len(set(frames.values())) < 2:
+        if name != companion.name:
             continue
         owner, prop = path.split(".")
         target = companion.data if owner == "data" else companion
+        if len(set(frames.values())) < 2:  # the same throughout: as the frames had it
+            setattr(target, prop, next(iter(frames.values())))
+            continue
         for frame, value in sorted(frames.items()):
             setattr(target, prop, value)
             target.keyframe_insert(prop, frame=frame)
@@ -396,10 +418,9 @@ def free(obj):
     """Back to live: our cache modifier, keyframes, layer sequences and cache file removed (the
     files stay on disk). Returns whether there was a bake."""
     mod = cache_modifier(obj)
-    if mod is None:
-        return False
-    cache = mod.cache_file
-    obj.modifiers.remove(mod)
+    cache = mod.cache_file if mod is not None else None
+    if mod is not None:
+        obj.modifiers.remove(mod)
     for companion in _companions(obj):
         own = companion.modifiers.get(MODIFIER)
         if own is not None:
@@ -410,7 +431,7 @@ def free(obj):
                 target.animation_data_clear()
                 if action.users == 0:
                     bpy.data.actions.remove(action)
-    mat = water.material_of(obj.data)
+    mat = water.material_of(obj.data) if not _is_copy(obj) else None  # the original's
     if mat is not None:
         _unkey(mat.node_tree)
         water.play_layer_sequences(mat, {}, 0, 0)
@@ -421,7 +442,7 @@ def free(obj):
     obj.projgrid.bake_camera = ""
     obj.projgrid.bake_frames = (0, 0)
     RUNTIME.state(obj).key = None
-    return True
+    return mod is not None
 
 
 def stale(the_scene, obj):

@@ -256,6 +256,7 @@ COMPANIONS_FRESH = textwrap.dedent("""
     import numpy as np
     blend, out = sys.argv[1:3]
     bpy.ops.wm.open_mainfile(filepath=blend)
+    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
     scene, seen = bpy.context.scene, {}
     for frame in (1, 2):
         scene.frame_set(frame)
@@ -296,3 +297,20 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
         assert np.allclose(seen[str(f)], want[f], atol=1e-5), (f, seen[str(f)], want[f])
     assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
     assert body.animation_data is None and not obj.projgrid.shadow_caster.modifiers
+
+
+def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, tmp_path):
+    """Shift+D copies the bake's modifier and the companions' pointers: Back to Live on the copy
+    frees the copy alone, and the copy is refused a bake of its own until then."""
+    scene, obj = moving
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=2) == {"FINISHED"}
+    keyed = list(obj.data.materials[0].node_tree[bridge.bake.KEYED])
+    copy = obj.copy()
+    copy.data = obj.data.copy()
+    scene.collection.objects.link(copy)
+    with pytest.raises(ValueError, match="duplicate"):
+        bridge.bake.check(scene, bpy.context.view_layer, copy, str(tmp_path / "b.usdc"), 1, 2)
+    assert bridge.bake.free(copy) and not bridge.bake.is_baked(copy)
+    assert bridge.bake.is_baked(obj) and obj.projgrid.shadow_caster.modifiers
+    assert list(obj.data.materials[0].node_tree[bridge.bake.KEYED]) == keyed

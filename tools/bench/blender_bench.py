@@ -5,6 +5,7 @@ import importlib
 import itertools
 import math
 import os
+import shutil
 import tempfile
 import time
 
@@ -223,8 +224,10 @@ def bake_cost(frames=24, repeats=7):
 
     times = interleaved({"baked (reads its cache)": lambda: play(baked),
                          "live (builds the grid)": lambda: play(live)}, repeats)
+    extension().projgrid_addon.bridge.bake.free(obj)
     for scene in (baked, live):
         bpy.data.scenes.remove(scene)
+    shutil.rmtree(folder, ignore_errors=True)
     return {"frames": frames, "seconds_per_frame": wall / frames, "cpu_per_frame": cpu / frames,
             "mb_per_frame": size / 2**20 / frames,
             "play": [{"variant": k, **v.ms()} for k, v in times.items()]}
