@@ -14,6 +14,27 @@ def positions(mesh):
     return co.reshape(-1, 3)
 
 
+def render_mesh(scene, obj, bridge, frame):
+    """The mesh a render of `frame` builds for ocean `obj` (the viewport grid back after)."""
+    scene.frame_set(frame)
+    bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
+    mesh = positions(obj.data).copy()
+    scene.frame_set(frame)
+    return mesh
+
+
+def spectral_sea():
+    """A camera 6 m up looking along +Y a little down, and a spectral ocean at force 5, at
+    frame 2."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    obj.projgrid.height_source = "SPECTRUM"
+    assert bpy.ops.projgrid.sea_state(beaufort=5) == {"FINISHED"}
+    scene.frame_set(2)
+    return obj
+
+
 def add_ocean(source=None):
     """Add Ocean (the spectral sea at its default force), or with `source` "PERLIN" the noise
     (for the tests of the noise's own settings: amplitude, octaves, the exact path)."""

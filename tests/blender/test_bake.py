@@ -13,7 +13,7 @@ import pytest
 
 from tools.package import ROOT
 
-from .helpers import add_camera, add_ocean, positions
+from .helpers import add_camera, add_ocean, positions, render_mesh
 
 RENDER_RES = (17, 33)
 
@@ -33,13 +33,7 @@ def moving(tmp_path):
     return scene, obj
 
 
-def live(scene, obj, bridge, frame):
-    """The mesh a render of `frame` builds."""
-    scene.frame_set(frame)
-    bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
-    mesh = positions(obj.data).copy()
-    scene.frame_set(frame)
-    return mesh
+live = render_mesh  # the mesh a render of a frame builds
 
 
 FRESH = textwrap.dedent("""

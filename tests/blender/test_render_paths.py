@@ -19,7 +19,7 @@ import pytest
 from tools.package import ROOT
 
 from .conftest import USER
-from .helpers import RenderCapture, add_camera, add_ocean, positions
+from .helpers import RenderCapture, add_camera, add_ocean, render_mesh
 
 RENDER_RES = (33, 65)
 
@@ -49,12 +49,7 @@ def animated(tmp_path):
     return scene, obj
 
 
-def expected(scene, obj, bridge, frame):
-    scene.frame_set(frame)
-    bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
-    mesh = positions(obj.data).copy()
-    scene.frame_set(frame)  # back to the viewport grid
-    return mesh
+expected = render_mesh
 
 
 def test_still_render_f12(animated, bridge):

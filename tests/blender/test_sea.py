@@ -7,19 +7,13 @@ import bpy
 import numpy as np
 import pytest
 
-from .helpers import add_camera, add_ocean, positions
+from .helpers import add_camera, add_ocean, positions, spectral_sea
 
 
 @pytest.fixture
 def sea():
     """A camera 6 m up looking along +Y a little down, and a spectral ocean at force 5."""
-    scene = bpy.context.scene
-    add_camera(scene)
-    obj = add_ocean()
-    obj.projgrid.height_source = "SPECTRUM"
-    assert bpy.ops.projgrid.sea_state(beaufort=5) == {"FINISHED"}
-    scene.frame_set(2)
-    return obj
+    return spectral_sea()
 
 
 def test_sea_state_sets_the_wind_fetch_chop_and_swell(sea, extension):

@@ -4,11 +4,10 @@ render), against shading.unresolved_slope_variance and shading.layer_gain."""
 
 import math
 
-import bpy
 import numpy as np
 import pytest
 
-from .helpers import add_camera, add_ocean
+from .helpers import spectral_sea
 
 
 def _safe_log(a, b):
@@ -87,12 +86,7 @@ class Evaluator:
 @pytest.fixture
 def water(extension):
     """The spectral sea's water group, the material's group node, and the core's modules."""
-    scene = bpy.context.scene
-    add_camera(scene)
-    obj = add_ocean()
-    obj.projgrid.height_source = "SPECTRUM"
-    assert bpy.ops.projgrid.sea_state(beaufort=5) == {"FINISHED"}
-    scene.frame_set(2)
+    obj = spectral_sea()
     core = extension.projgrid_addon
     material = extension.shaders.water.material_of(obj.data)
     node = material.node_tree.nodes[extension.shaders.water.GROUP]
