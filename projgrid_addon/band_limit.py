@@ -158,6 +158,38 @@ def lod_from_w(steps, rows, hw, out):
     return pseudo_log2(np.fmax(ratio, 0.0, out=ratio), out)  # a degenerate 0 / 0 keeps no octave
 
 
+def along_waves(xy, lod, level, along):
+    """The band limit on a grid of points xy (2, rows, columns) for waves heading within an
+    angle of one direction, `along` = (cos, sin) of the direction and of the angle: `lod`
+    raised by log2 of the larger grid step over the larger reach of the steps along those
+    headings. A wave of wave vector k aliases on the grid where |k . a| or |k . b| exceeds pi,
+    a and b the steps between neighbours along a row and a column; across the waves' crests a
+    step counts only by its projection, so a swell crossing the view stays in the geometry
+    far beyond where the rows, metres deep there, hold any wave heading toward the camera.
+    Only rows where `lod` does not already keep a band of `level` whole are raised."""
+    out = lod.copy()
+    rows = np.flatnonzero(lod.min(axis=1) < level + 1.0)
+    if rows.size == 0 or min(xy.shape[1:]) < 2:
+        return out
+    start, stop = max(rows[0] - 1, 0), min(rows[-1] + 2, xy.shape[1])
+    part = xy[:, start:stop]
+    cos, sin, cos_off, sin_off = along
+    full = reach = None
+    for axis in (2, 1):
+        if part.shape[axis] < 2:
+            continue
+        d = np.gradient(part, axis=axis)
+        length = np.hypot(d[0], d[1])
+        projected = np.abs(d[0] * cos + d[1] * sin) * cos_off
+        projected += np.abs(d[1] * cos - d[0] * sin) * sin_off
+        full = length if full is None else np.maximum(full, length)
+        reach = projected if reach is None else np.maximum(reach, projected)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gain = np.log2(full / reach)
+    out[start:stop] += np.clip(np.nan_to_num(gain, nan=0.0, posinf=30.0), 0.0, 30.0)
+    return out
+
+
 def shader_octaves(lod, octaves):
     """(first, count): the octaves some vertex left out, in part or whole, for the shader."""
     if lod is None:

@@ -12,6 +12,13 @@ own phases: no tile holds more than SHARE_PER_TILE of the variance. Where two ti
 nearly meet within a few kilometres they would repeat together; each tile is read through a
 slow warp of its own (warp.py), which spreads such a joint repeat over metres.
 
+A swell's core (spectrum.in_swell_core: near its peak, within a few degrees of its heading) has
+tiles of its own, band-limited along its headings (band_limit.along_waves): the grid's rows,
+tens of metres deep a few hundred metres out, cannot hold a wave heading toward the camera,
+but one crossing the view they can, and the swell is the sea's longest and straightest waves.
+The core is not displaced sideways: a swell's steepness, a few hundredths, sharpens no crest a
+picture shows, and swells do not break, so it adds nothing to the foam's folding.
+
     h(k, t) = h0(k) e^(-i omega t) + conj(h0(-k)) e^(i omega t),   omega^2 = g |k|
     h0(k)   = e^(i phi_k) sqrt(E(k) dk^2 / 2)                        (phi_k: a random phase)
 
@@ -36,7 +43,14 @@ from functools import cached_property, lru_cache
 import numpy as np
 
 from . import shading, spectrum
-from .band_limit import every_other, fill_every_other, octave_weights, row_jobs, row_parts
+from .band_limit import (
+    along_waves,
+    every_other,
+    fill_every_other,
+    octave_weights,
+    row_jobs,
+    row_parts,
+)
 from .projected_grid import grid_derivative
 from .scratch import CHUNK, scratch
 from .tiles import Lookup, periodic_patches
@@ -77,17 +91,27 @@ def band_level(shortest):
 
 
 def band_shares(state):
-    """Each band's share of the sea's height variance (the waves longer than BAND_LONGEST
-    count with the first band, the shorter than the last band's with none)."""
+    """Each band's share of the sea's height variance, and last the swell's core's
+    (spectrum.in_swell_core: its own tiles). The waves longer than BAND_LONGEST count with the
+    first band, the shorter than the last band's with none."""
     edges = [2.0 * np.pi / lo for lo, _ in bands()]  # wavenumbers of the bands' short ends
     omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *edges]))
-    parts = []
+    parts, core = [], 0.0
     for a, b in zip(omega[:-1], omega[1:], strict=True):
         w = np.linspace(max(a, 1e-4), b, 4000)
+        inside = float(spectrum.integrate(spectrum.swell_core_spectrum(w, state), w))
         parts.append(float(spectrum.integrate(spectrum.wind_spectrum(w, state)
-                                              + spectrum.swell_spectrum(w, state), w)))
-    total = sum(parts)
-    return [p / total if total > 0.0 else 0.0 for p in parts]
+                                              + spectrum.swell_spectrum(w, state), w)) - inside)
+        core += inside
+    total = sum(parts) + core
+    return [p / total if total > 0.0 else 0.0 for p in [*parts, core]]
+
+
+def swell_core_waves(state):
+    """(shortest, longest) wavelength (m) of the swell's core: lambda = 2 pi g / omega^2."""
+    peak = 2.0 * np.pi / state.swell_period
+    return tuple(2.0 * np.pi * spectrum.GRAVITY / (f * peak) ** 2
+                 for f in reversed(spectrum.SWELL_CORE))
 
 
 def _slope_variance(state, shortest, longest, samples=4000):
@@ -98,6 +122,12 @@ def _slope_variance(state, shortest, longest, samples=4000):
     k = w * w / spectrum.GRAVITY
     s = spectrum.wind_spectrum(w, state) + spectrum.swell_spectrum(w, state)
     return float(spectrum.integrate(k * k * s, w))
+
+
+def _line_angle(headings, direction):
+    """The largest angle (rad, 0 to pi / 2) between the lines of `headings` and `direction`."""
+    return float(np.abs(np.angle(np.exp(2j * (np.asarray(headings) - direction)))).max(
+        initial=0.0)) / 2.0
 
 
 @lru_cache(maxsize=64)
@@ -120,9 +150,12 @@ def _lattice(texels):
 class Cascade:
     """One tile `size` metres across, turned by `angle` (radians) on the sea, holding the wave
     vectors of a band (wavelengths between `shortest` and `longest`) with `share` of the band's
-    energy. Its lattice is the tile's; its wave vectors, and so its fields, are the world's."""
+    energy (of the spectrum's `part`: spectrum.wavenumber_spectrum). Its lattice is the tile's;
+    its wave vectors, and so its fields, are the world's. `smooth`: it has no choppy
+    displacement (`held`, the fields it gives, leaves those out)."""
 
-    def __init__(self, size, angle, shortest, longest, share, state, phases, texels):
+    def __init__(self, size, angle, shortest, longest, share, state, phases, texels,
+                 part=None, smooth=False):
         self.size, self.shortest = float(size), float(shortest)
         self.texels = texels
         self.turn = (np.cos(angle), np.sin(angle))
@@ -144,7 +177,7 @@ class Cascade:
                 n = np.hypot(nx + a, ny + b)
                 inside = (n >= lo) & (n < hi)
                 energy += np.where(inside, spectrum.wavenumber_spectrum(
-                    *world(nx + a, ny + b), state), 0.0)
+                    *world(nx + a, ny + b), state, part), 0.0)
         energy *= share / 16.0
         # The tiles are synthesised in single precision: the vertices are float32 anyway, and
         # the transforms and the patches move half the bytes.
@@ -160,6 +193,11 @@ class Cascade:
         safe = np.where(k > 0.0, k, 1.0)
         self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
         self.empty = not np.any(energy > 0.0)
+        self.held = frozenset(range(len(FIELDS))) - (set(SIDEWAYS) if smooth else set())
+        # The waves it holds, each wave vector of the half lattice standing for k and -k.
+        held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, half]
+        self.shortest_held = 2.0 * np.pi / max(float(k[held].max(initial=0.0)), 1e-12)
+        self.headings = np.arctan2(self.ky[held], self.kx[held])
         self._factors = {}
 
     def power(self):
@@ -189,8 +227,10 @@ class Cascade:
     def fields(self, t, lam, which):
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
         t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
-        |(dx, dy)| of the samples (0 where those fields were not asked for)."""
-        which = list(which)
+        |(dx, dy)| of the samples (0 where those fields were not asked for or not held)."""
+        which = [f for f in which if f in self.held]
+        if not which:
+            return {}, 0.0, 0.0
         real = self.samples(t, lam, which)
         at = {f: i for i, f in enumerate(which)}
         bound = float(np.abs(real[at[0]]).max()) if 0 in at else 0.0
@@ -234,24 +274,41 @@ class SpectralField:
         self.texels = integer("texels", texels, 8, 1024)
         if self.texels & (self.texels - 1):
             raise ValueError(f"texels: must be a power of two, got {self.texels}")
-        self.cascades, self.levels = [], []
-        for b, ((shortest, longest), share) in enumerate(zip(bands(), band_shares(state),
-                                                             strict=True)):
+        self.cascades, self.levels, self.groups = [], [], []
+        swell = state.swell_height > 0.0
+        shares = band_shares(state)
+        for b, ((shortest, longest), share) in enumerate(zip(
+                [*bands(), swell_core_waves(state)], shares, strict=True)):
             if share < 1e-7:
                 continue
+            core = b == BANDS
             count = int(np.clip(np.ceil(share / SHARE_PER_TILE), 1, len(TILE_RATIOS)))
             # A band holding much of the sea gets larger tiles: fewer repeats in view.
             texels = self.texels * (BIG if share > SHARE_PER_TILE else 1)
             base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples
+            part = ("swell core" if core else "without swell core") if swell else None
+            first = len(self.cascades)
             for j in range(count):
                 # Turned evenly over the quarter turn a square lattice repeats in, so no two
                 # tiles' lattices line up (and the crests of a band never run along them all).
                 angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
                 cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
-                                  state, tile_phases(self.seed, b, j, texels), texels)
+                                  state, tile_phases(self.seed, b, j, texels), texels, part,
+                                  smooth=core)
                 if not cascade.empty:
                     self.cascades.append(cascade)
-                    self.levels.append(band_level(shortest))
+            held = self.cascades[first:]
+            if not held:
+                continue
+            if core:  # the band limit of the waves its tiles hold, along their directions
+                level = band_level(min(c.shortest_held for c in held))
+                off = max(_line_angle(c.headings, state.swell_direction) for c in held)
+                along = (np.cos(state.swell_direction), np.sin(state.swell_direction),
+                         np.cos(off), np.sin(off))
+            else:
+                level, along = band_level(shortest), None
+            self.levels += [level] * len(held)
+            self.groups.append((level, along, range(first, len(self.cascades))))
         # The band limit (band_limit.py) in units of 1 m: a band is kept whole while its shortest
         # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.
         self.wave_scale = 1.0
@@ -262,7 +319,7 @@ class SpectralField:
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
         self.warp = Warp(self.seed)
         self._prepared = None
-        self._shares = band_shares(state)
+        self._shares = shares[:BANDS]
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
@@ -286,9 +343,11 @@ class SpectralField:
     def spread(self):
         """(standard deviation of the height, root mean square of the choppy displacement), m:
         each wave vector's mean power |h0(k)|^2 + |h0(-k)|^2 summed (Parseval), the same at
-        every time; the displacement's is lambda times the height's (|k / |k|| = 1)."""
-        power = sum(float(np.sum(c.power())) for c in self.cascades)
-        return float(np.sqrt(power)), float(self.choppiness * np.sqrt(power))
+        every time; the displacement's is lambda times the height's (|k / |k|| = 1) over the
+        tiles that are displaced."""
+        power = [float(np.sum(c.power())) for c in self.cascades]
+        moved = sum(p for p, c in zip(power, self.cascades, strict=True) if 1 in c.held)
+        return float(np.sqrt(sum(power))), float(self.choppiness * np.sqrt(moved))
 
     def autocorrelation(self, lags, fine=4, samples=256):
         """The surface's height autocorrelation at `lags` (2, ...) m, over its random phases
@@ -463,6 +522,8 @@ class SpectralField:
         xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(fields),) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         on_grid = on_grid and lod2 is not None and len(shape) == 2
+        lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
+                for level, along, _ in self.groups]
         step = max(1, CHUNK // out2.shape[-1])
         for start in range(0, out2.shape[1], step):
             band = slice(start, start + step)
@@ -470,7 +531,8 @@ class SpectralField:
             offsets = scratch("offsets", xy2[:, band].shape, np.float32)
             np.subtract(xy2[:, band], origin[:, None, None], out=offsets, casting="same_kind")
             self._sum(origin, offsets, self.warp(origin, offsets),
-                      None if lod2 is None else lod2[band], fields, out2[:, band], on_grid)
+                      [None if g is None else g[band] for g in lods], fields, out2[:, band],
+                      on_grid)
         return out
 
     @staticmethod
@@ -483,17 +545,18 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, origin, offsets, warp, lod, fields, out, on_grid):
+    def _sum(self, origin, offsets, warp, lods, fields, out, on_grid):
         """Add the bands' `fields` at origin + offsets into `out`, band by band (a band's
-        tiles are consecutive and share its level, so its rows and its coarse part), each tile
-        read where `warp` (the Warp there) turned by its own turn moves the points."""
-        row_min = lod.min(axis=1) if on_grid else None
-        first = 0
-        while first < len(self.cascades):
-            level = self.levels[first]
-            last = first + self.levels[first:].count(level)
-            tiles = range(first, last)
-            first = last
+        tiles share its level, so its rows and its coarse part; `lods` the band limit for
+        each of self.groups), each tile read where `warp` (the Warp there) turned by its own
+        turn moves the points."""
+        mins = {}
+        for (level, _, tiles), lod in zip(self.groups, lods, strict=True):
+            if not self.cascades[tiles[0]].held.intersection(fields):
+                continue
+            if on_grid and id(lod) not in mins:
+                mins[id(lod)] = lod.min(axis=1)
+            row_min = mins.get(id(lod))
             job = row_jobs(lod, level)
             if job is None:
                 continue
@@ -527,6 +590,8 @@ class SpectralField:
         where = Lookup.turned(cascade.texels, offsets, origin, cascade.texels / cascade.size,
                               cascade.turn, shift=(warp, Warp.turn(j)))
         for i, f in enumerate(fields):
+            if f not in textures:  # a field the tile does not hold: 0
+                continue
             v = where.sample(textures[f])
             if weight is not None:
                 v *= weight

@@ -26,6 +26,10 @@ SPECTRA = ("JONSWAP", "PIERSON_MOSKOWITZ", "PHILLIPS")
 GAMMA = 3.3  # JONSWAP peak enhancement
 SWELL_GAMMA = 8.0  # a swell's narrow band (Goda's range for swell is 3.3 to 10)
 SWELL_SPREAD = 12.0  # Donelan-Banner beta of a swell: most of it within +-15 degrees
+# The swell's core, which tiles of its own hold (spectral_field.py): frequencies from 0.85 to
+# 1.2 times its peak, directions within 0.15 rad of its own (95 % of its spreading).
+SWELL_CORE = (0.85, 1.2)
+SWELL_HALF_ANGLE = 0.15
 
 
 @dataclass(frozen=True)
@@ -154,26 +158,62 @@ def donelan_banner(omega, theta, omega_p, beta_scale=None):
 
 def directional(omega, theta, state):
     """S(omega) D(omega, theta): the sea's energy per frequency and direction, wind and swell."""
-    wind = wind_spectrum(omega, state)
-    if state.spectrum == "PHILLIPS":  # Tessendorf's |k.w|^2, normalised over the circle
-        spread = np.cos(theta - state.wind_direction) ** 2 / np.pi
-    else:
-        spread = donelan_banner(omega, theta - state.wind_direction, peak_frequency(state))
-    energy = wind * spread
+    energy = _wind_directional(omega, theta, state)
     if state.swell_height > 0.0:
-        energy = energy + swell_spectrum(omega, state) * donelan_banner(
-            omega, theta - state.swell_direction, None, SWELL_SPREAD)
+        energy = energy + _swell_directional(omega, theta, state)
     return energy
 
 
-def wavenumber_spectrum(kx, ky, state):
+def _wind_directional(omega, theta, state):
+    wind = wind_spectrum(omega, state)
+    if state.spectrum == "PHILLIPS":  # Tessendorf's |k.w|^2, normalised over the circle
+        return wind * np.cos(theta - state.wind_direction) ** 2 / np.pi
+    return wind * donelan_banner(omega, theta - state.wind_direction, peak_frequency(state))
+
+
+def _swell_directional(omega, theta, state):
+    return swell_spectrum(omega, state) * donelan_banner(
+        omega, theta - state.swell_direction, None, SWELL_SPREAD)
+
+
+def wavenumber_spectrum(kx, ky, state, part=None):
     """E(k) (m^4): the energy per unit wave-vector area, so that the height variance is the
-    integral of E over the k plane. omega = sqrt(g k), d omega / d k = g / (2 omega)."""
+    integral of E over the k plane. omega = sqrt(g k), d omega / d k = g / (2 omega).
+    `part` "swell core": only the swell's core (`in_swell_core`); "without swell core": the
+    rest; None: all of it."""
     k = np.hypot(kx, ky)
     kk = np.maximum(k, 1e-12)
     omega = np.sqrt(GRAVITY * kk)
-    e = directional(omega, np.arctan2(ky, kx), state) * (GRAVITY / (2.0 * omega)) / kk
+    theta = np.arctan2(ky, kx)
+    if part is None:
+        e = directional(omega, theta, state)
+    else:
+        swell = _swell_directional(omega, theta, state)
+        core = np.where(in_swell_core(omega, theta, state), swell, 0.0)
+        e = core if part == "swell core" else (
+            _wind_directional(omega, theta, state) + (swell - core))
+    e = e * (GRAVITY / (2.0 * omega)) / kk
     return np.where(k > 0.0, e, 0.0)
+
+
+def in_swell_core(omega, theta, state):
+    """Whether (omega, theta) lies in the swell's core: SWELL_CORE times its peak frequency,
+    within SWELL_HALF_ANGLE of its direction (never, without a swell)."""
+    if state.swell_height <= 0.0:
+        return np.zeros(np.broadcast(omega, theta).shape, bool)
+    ratio = np.asarray(omega) * (state.swell_period / (2.0 * np.pi))
+    off = np.abs(np.angle(np.exp(1j * (np.asarray(theta) - state.swell_direction))))
+    return (ratio >= SWELL_CORE[0]) & (ratio < SWELL_CORE[1]) & (off <= SWELL_HALF_ANGLE)
+
+
+def swell_core_spectrum(omega, state):
+    """S(omega) of the swell's core (`in_swell_core`) over all its directions: the swell's
+    within SWELL_CORE times the share of its spreading within SWELL_HALF_ANGLE,
+    tanh(beta a) / tanh(beta pi)."""
+    ratio = np.asarray(omega, dtype=np.float64) * (state.swell_period / (2.0 * np.pi))
+    inside = (ratio >= SWELL_CORE[0]) & (ratio < SWELL_CORE[1])
+    share = np.tanh(SWELL_SPREAD * SWELL_HALF_ANGLE) / np.tanh(SWELL_SPREAD * np.pi)
+    return np.where(inside, swell_spectrum(omega, state) * share, 0.0)
 
 
 def moments(state, n=(0,), samples=20_000):

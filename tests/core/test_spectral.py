@@ -208,6 +208,56 @@ def test_a_grid_samples_long_bands_every_other_vertex():
     assert sum(p is not None for p in parts) >= 2
 
 
+def _low_view(heading=0.0):
+    """A camera 5 m above the sea looking a little down toward `heading` (rad from +X)."""
+    eye = np.array([0.0, 0.0, 5.0])
+    return eye, (look_at(eye, eye + (np.cos(heading), np.sin(heading), -0.08)),
+                 perspective(np.radians(50.0), 16 / 9, 0.1, 1e5))
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_a_swell_across_the_view_stays_in_the_geometry(seed):
+    """The swell's core is band-limited along its own headings (band_limit.along_waves): seen
+    from 5 m up at the render grid, a 12 s swell crossing the view keeps a fifth of its
+    height from 500 to 800 m, where the rows are 20 to 80 m deep (all of it where it crosses
+    them squarely, toward the middle of the view), twice what they keep of a swell heading
+    toward the camera and of the same crossing swell band-limited by the rows' depth alone
+    (the band limit before: a tenth)."""
+    state = dict(wind_speed=0.0, swell_height=2.0, swell_period=12.0)
+    sigma = {}
+    for name, heading in (("across", np.pi / 2), ("toward", np.pi), ("rows", np.pi / 2)):
+        source = SpectralField(SeaState(swell_direction=heading, **state), seed=seed)
+        if name == "rows":
+            source.groups = [(level, None, tiles) for level, _, tiles in source.groups]
+        eye, cam = _low_view()
+        x, y, h = build_grid(cam, source, time=6.0, resolution=(257, 513)).surface
+        far = (np.hypot(x - eye[0], y - eye[1]) > 500.0) & (np.hypot(x, y) < 800.0)
+        sigma[name] = h[far].std() / source.spread[0]
+    others = max(sigma["toward"], sigma["rows"])
+    assert sigma["across"] > max(0.2, 2.0 * others) and others < 0.13, sigma
+
+
+@pytest.mark.parametrize("heading", [np.pi / 2, 2.2, 2.9])
+def test_no_swell_wave_the_geometry_keeps_aliases(heading):
+    """Wherever the grid keeps any of the swell's core (its weight above 0), every wave vector
+    its tiles hold turns by less than pi from vertex to vertex along rows and columns (the
+    Nyquist limit): the band limit along the waves' headings keeps nothing it cannot hold."""
+    source = SpectralField(SeaState(wind_speed=3.0, swell_height=1.0, swell_period=10.0,
+                                    swell_direction=heading), seed=1)
+    (level, along, tiles), = [g for g in source.groups if g[1] is not None]
+    result = build_grid(_low_view(0.3)[1], source, time=2.0, resolution=(129, 257))
+    xy = np.stack(result.surface[:2])
+    lod = band_limit.along_waves(xy, result.lod.reshape(xy.shape[1:]), level, along)
+    kept = lod > level
+    assert kept.mean() > 0.5 and not kept.all()
+    k = np.concatenate([np.stack([c.kx[held], c.ky[held]], axis=1)
+                        for c in (source.cascades[j] for j in tiles)
+                        for held in [np.abs(c._h0) + np.abs(c._h0_neg_conj) > 0.0]])
+    for axis in (2, 1):
+        step = np.gradient(xy, axis=axis)[:, kept]  # (2, kept vertices)
+        assert np.abs(k @ step).max() < np.pi
+
+
 def test_every_other_vertex_interpolates_linearly():
     """A field linear on the grid is restored exactly from every other row and column, for odd
     and even counts (the last row and column are always sampled)."""
@@ -284,6 +334,28 @@ def test_foam_covers_the_whitecap_share_and_stays_steady(u):
             means.append(foam.mean())
     for now, later in zip(means[:3], means[3:], strict=True):
         assert later == pytest.approx(now, rel=0.3)
+
+
+def test_a_swell_brings_no_foam_to_the_far_sea():
+    """Seen from 30 m up, a 2.5 m swell crossing a gentle breeze's sea: the foam a frame's grid
+    draws in the far field (its vertices holding no wave shorter than 16 m) covers Monahan's
+    share within a factor of 3, in each octave of detail (the swell's core, kept there by the
+    band limit along its headings, is not displaced sideways: it does not fold, and a ring of
+    foam on its crests covered 20 to 50 times the share when it was)."""
+    state = SeaState(wind_speed=4.4, wind_direction=np.pi / 2, swell_height=2.5,
+                     swell_period=13.0, swell_direction=np.radians(10.0))
+    source = SpectralField(state, choppiness=0.5, seed=0)
+    eye = np.array([0.0, 0.0, 30.0])
+    cam = (look_at(eye, eye + (0.0, 1.0, np.tan(np.radians(-6.0)))),
+           perspective(np.radians(40.0), 16 / 9, 0.1, 1e5))
+    result = build_grid(cam, source, time=2.0, resolution=(257, 513))
+    want = effects.whitecap_coverage(4.4)
+    xy, lod = result.base, result.lod.reshape(result.base.shape[1:])
+    foam = effects.whitecaps(source.foam_cue(xy, 2.0, lod, grid=result.surface[:2]), lod,
+                             effects.foam_thresholds(source, 2.0, want))
+    for level in (-4.0, -5.0, -6.0, -7.0):
+        near = np.abs(lod.ravel() - level) <= 0.5
+        assert near.sum() > 1000 and want / 3.0 < foam[near].mean() < 3.0 * want, level
 
 
 def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
