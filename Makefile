@@ -41,8 +41,11 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	touch $@
 
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-test: lint test-blender-4.5
-	$(PY) -m pytest
+# The core (NumPy, one process) runs beside the 4.5 Blender tests: CI's two cores, and never two
+# EEVEE sessions at once. Each part's output is printed whole when it ends.
+test: lint
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-core
+	$(PY) -m pytest tests/blender
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
 # grid) on 5.2, in about a minute.
