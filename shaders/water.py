@@ -572,6 +572,7 @@ def update_layer(mat, slopes, lookups, origin):
 
 
 BAKED_LAYER = "Projected Grid Bake Slopes"  # and the band's number: a bake's image sequence
+BAKED_CAUSTICS = "Projected Grid Bake Caustics"  # the godrays' tile, a bake's image sequence
 
 
 def group_tree(mat):
@@ -606,22 +607,53 @@ def play_layer_sequences(mat, files, first, last):
         old = taps[0].image
         if b not in files and (old is None or not old.name.startswith(BAKED_LAYER)):
             continue  # live images: left as they are
-        image = None
-        if b in files:
-            image = bpy.data.images.load(files[b], check_existing=False)
-            image.name = f"{BAKED_LAYER} {b}"
-            image.source = "SEQUENCE"
-            image.colorspace_settings.is_data = True
-            image[TAG] = True
+        image = _sequence(files[b], f"{BAKED_LAYER} {b}") if b in files else None
         for tap in taps:
-            tap.image = image
-            if image is not None:
-                user = tap.image_user
-                user.frame_start, user.frame_offset = first, first - 1
-                user.frame_duration, user.use_auto_refresh = last - first + 1, True
-        if (old is not None and old.get(TAG) and old.name.startswith(BAKED_LAYER)
-                and old.users == 0):
-            bpy.data.batch_remove([old])
+            _play(tap, image, first, last)
+        _drop_baked(old, BAKED_LAYER)
+
+
+def play_caustic_sequence(mat, file, first, last):
+    """The godrays' caustic tile of a water body material read from an image sequence (the
+    file of frame `first`, numbered up to `last`), as a bake wrote it; `file` None: back to
+    our image written each frame."""
+    node = mat.node_tree.nodes.get("Caustic Tile")
+    if node is None:
+        return
+    old = node.image
+    if file is None:
+        if old is None or not old.name.startswith(BAKED_CAUSTICS):
+            return
+        _play(node, caustic_image(old.size[0]), first, last)
+    else:
+        _play(node, _sequence(file, BAKED_CAUSTICS), first, last)
+    _drop_baked(old, BAKED_CAUSTICS)
+
+
+def _sequence(file, name):
+    """Our image sequence (float data) whose first file is `file`, named `name`."""
+    image = bpy.data.images.load(file, check_existing=False)
+    image.name = name
+    image.source = "SEQUENCE"
+    image.colorspace_settings.is_data = True
+    image[TAG] = True
+    return image
+
+
+def _play(tap, image, first, last):
+    """`tap` reads `image`, a sequence's frame `first` on scene frame `first` up to `last`."""
+    tap.image = image
+    if image is not None and image.source == "SEQUENCE":
+        user = tap.image_user
+        user.frame_start, user.frame_offset = first, first - 1
+        user.frame_duration, user.use_auto_refresh = last - first + 1, True
+
+
+def _drop_baked(image, prefix):
+    """A bake's image sequence of ours that nothing uses any more, removed."""
+    if (image is not None and image.get(TAG) and image.name.startswith(prefix)
+            and image.users == 0):
+        bpy.data.batch_remove([image])
 
 
 def layer_images():

@@ -10,7 +10,8 @@ at 257x513 instead of 8.5). The exporter samples a mesh per frame only for objec
 with time, so the ocean carries a modifier of ours whose output depends on the scene time (and
 moves nothing) while it writes. As it steps, the frame handler records what our material is
 given each frame (`progress`): the inputs that change are keyed afterwards, the slope layer's
-images saved as numbered EXR files. Everything is written beside its target and renamed onto
+images saved as numbered EXR files; the water body's material and its godrays' caustic tile
+alike. Everything is written beside its target and renamed onto
 it only when whole, and the ocean is switched only then: a failed bake leaves it live.
 """
 
@@ -42,7 +43,8 @@ class Recording:
     """What a bake records of each frame as the exporter steps through them: our material's
     socket values (keyed afterwards where they change), the group's muted branches, and the
     slope layer's images (written as numbered EXR files into `slopes`, a folder renamed onto
-    its target when the bake is whole)."""
+    its target when the bake is whole); the same of the water body's material and its
+    godrays' caustic tile."""
 
     first: int
     last: int
@@ -53,6 +55,10 @@ class Recording:
     muted: dict = field(default_factory=dict)  # node name -> {frame: muted}
     images: dict = field(default_factory=dict)  # band -> first frame's file name
     companions: dict = field(default_factory=dict)  # (name, data path) -> {frame: value}
+    body_animated: set | None = None  # as `animated`, of the water body's material
+    body_values: dict = field(default_factory=dict)  # as `values`
+    godrays: dict = field(default_factory=dict)  # frame -> shown (the branch not muted)
+    tiles: dict = field(default_factory=dict)  # frame -> caustic tile file name
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
 
 
@@ -147,7 +153,7 @@ def bake(context, obj, filepath, frame_start, frame_end):
         if "FINISHED" not in done or not os.path.exists(partial):
             raise RuntimeError("the USD export did not finish")
         os.replace(partial, path)
-        if recording.images:
+        if recording.images or recording.tiles:
             if os.path.isdir(slopes):
                 shutil.rmtree(slopes)
             os.replace(recording.slopes, slopes)
@@ -207,15 +213,7 @@ def _record(recording, frame):
     mat = water.material_of(obj.data) if obj is not None else None
     if mat is None:
         return
-    for node in mat.node_tree.nodes:
-        for socket in node.inputs:
-            value = getattr(socket, "default_value", None) if not socket.is_linked else None
-            if isinstance(value, float) or (hasattr(value, "__len__") and len(value) <= 4
-                                            and not isinstance(value, str)):
-                path = socket.path_from_id("default_value")
-                if path not in recording.animated:
-                    recording.values.setdefault(path, {})[frame] = (
-                        (value,) if isinstance(value, float) else tuple(value))
+    _record_sockets(mat.node_tree, recording.animated, recording.values, frame)
     group = water.group_tree(mat)
     for node in group.nodes if group is not None else ():
         recording.muted.setdefault(node.name, {})[frame] = node.mute
@@ -232,13 +230,54 @@ def _record(recording, frame):
         if image is None:
             continue
         name = os.path.join(recording.slopes, f"band{b}_{frame:04d}.exr")
-        scratch = _scratch(image.size)
-        pixels = np.empty(len(image.pixels), np.float32)
-        image.pixels.foreach_get(pixels)
-        scratch.pixels.foreach_set(pixels)
-        scratch.filepath_raw = name
-        scratch.save()
+        _save(image, name)
         recording.images.setdefault(b, os.path.basename(name))
+    body = _body_material(obj)
+    if body is not None:
+        if recording.body_animated is None:
+            recording.body_animated = _animated(body.node_tree)
+        _record_sockets(body.node_tree, recording.body_animated, recording.body_values, frame)
+        tile = body.node_tree.nodes.get("Caustic Tile")
+        state = RUNTIME.peek(obj)
+        recording.godrays[frame] = bool(state is not None and state.effects
+                                        and state.effects.get("godrays", (False,))[0])
+        if recording.godrays[frame] and tile is not None and tile.image is not None:
+            name = f"godrays_{frame:04d}.exr"
+            _save(tile.image, os.path.join(recording.slopes, name))
+            recording.tiles[frame] = name
+
+
+def _record_sockets(tree, animated, values, frame):
+    """The unlinked inputs' values of `tree`'s nodes at `frame` into `values` (socket path ->
+    {frame: value}), but for the paths in `animated`."""
+    for node in tree.nodes:
+        for socket in node.inputs:
+            value = getattr(socket, "default_value", None) if not socket.is_linked else None
+            if isinstance(value, float) or (hasattr(value, "__len__") and len(value) <= 4
+                                            and not isinstance(value, str)):
+                path = socket.path_from_id("default_value")
+                if path not in animated:
+                    values.setdefault(path, {})[frame] = (
+                        (value,) if isinstance(value, float) else tuple(value))
+
+
+def _body_material(obj):
+    """Our water body's material of ocean `obj` (None without one of ours)."""
+    body = obj.projgrid.water_body
+    if body is None or body not in _companions(obj) or not len(body.data.materials):
+        return None
+    mat = body.data.materials[0]
+    return mat if mat is not None and mat.get(scene.TAG) and mat.library is None else None
+
+
+def _save(image, path):
+    """`image`'s pixels as an EXR file at `path` (through our scratch image)."""
+    scratch = _scratch(image.size)
+    pixels = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(pixels)
+    scratch.pixels.foreach_set(pixels)
+    scratch.filepath_raw = path
+    scratch.save()
 
 
 def _scratch(size):
@@ -298,21 +337,47 @@ def _play(obj, path, relative, recording):
             caster = companion.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
             caster.cache_file, caster.object_path = cache, mod.object_path
             caster.read_data = mod.read_data
+
+    def file(name):  # a file the bake wrote, as the .blend refers to it
+        path = os.path.join(recording.slopes, name)
+        return bpy.path.relpath(path) if relative else path
+
     mat = water.material_of(obj.data)
-    warning = None
+    switched = False
     if mat is not None:
         _key(mat.node_tree, recording.values)
-        files = {b: os.path.join(recording.slopes, name) for b, name in recording.images.items()}
-        water.play_layer_sequences(mat, {b: bpy.path.relpath(f) if relative else f
-                                         for b, f in files.items()},
+        water.play_layer_sequences(mat, {b: file(n) for b, n in recording.images.items()},
                                    recording.first, recording.last)
-        switched = [n for n, frames in recording.muted.items() if len(set(frames.values())) > 1]
-        if switched:
-            for name in switched:
+        for name, frames in recording.muted.items():
+            if len(set(frames.values())) > 1:
                 water.group_tree(mat).nodes[name].mute = False
-            warning = ("effects switch on and off within the frames: the bake draws them on "
-                       "throughout (bake the frames apart to keep the switch)")
-    return warning
+                switched = True
+    body = _body_material(obj)
+    if body is not None:
+        _key(body.node_tree, recording.body_values)
+        if recording.tiles:
+            _fill_frames(recording)
+            body.node_tree.nodes["Godrays"].mute = False
+            water.play_caustic_sequence(body, file(recording.tiles[recording.first]),
+                                        recording.first, recording.last)
+            switched = switched or len(set(recording.godrays.values())) > 1
+    if switched:
+        return ("effects switch on and off within the frames: the bake draws them on "
+                "throughout (bake the frames apart to keep the switch)")
+    return None
+
+
+def _fill_frames(recording):
+    """A caustic tile file for every frame: a frame drawn without godrays gets its nearest
+    frame's (the bake draws them throughout)."""
+    drawn = sorted(recording.tiles)
+    for frame in range(recording.first, recording.last + 1):
+        if frame not in recording.tiles:
+            near = min(drawn, key=lambda f, frame=frame: abs(f - frame))
+            name = f"godrays_{frame:04d}.exr"
+            shutil.copyfile(os.path.join(recording.slopes, recording.tiles[near]),
+                            os.path.join(recording.slopes, name))
+            recording.tiles[frame] = name
 
 
 def _prim(name, per_byte):
@@ -435,6 +500,10 @@ def free(obj):
     if mat is not None:
         _unkey(mat.node_tree)
         water.play_layer_sequences(mat, {}, 0, 0)
+    body = _body_material(obj)
+    if body is not None:
+        _unkey(body.node_tree)
+        water.play_caustic_sequence(body, None, 0, 0)
     if cache is not None and cache.get(scene.TAG) and not any(
             getattr(m, "cache_file", None) == cache for o in bpy.data.objects
             for m in o.modifiers):

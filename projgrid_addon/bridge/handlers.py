@@ -9,6 +9,8 @@ and undo handlers forget what was kept between updates; the save handlers write 
 empty, so a file linking this one's ocean draws it only by its own stand-in.
 """
 
+import time
+
 import bpy
 from bpy.app.handlers import persistent
 
@@ -41,6 +43,8 @@ def frame_change_post(the_scene, depsgraph=None):
     frame.update_scene(the_scene, depsgraph, render, frame_change=True)
     if RUNTIME.baking:
         bake.progress(the_scene.frame_current)
+    elif not render:
+        pack_when_still()
 
 
 def _forget_deleted(object_count):
@@ -165,6 +169,32 @@ def pack_layer_images():
             image.pack()
 
 
+STILL = 0.5  # s without a frame change after which scrubbing the timeline has stopped
+_LAST_CHANGE = [0.0]
+
+
+def pack_when_still():
+    """Scrubbing writes the layer's images each frame, and no handler says when it stops: they
+    are packed once the frame has stood still STILL seconds (a timer: the interface's only;
+    playback's end packs them itself)."""
+    _LAST_CHANGE[0] = time.monotonic()
+    if not bpy.app.timers.is_registered(still):
+        bpy.app.timers.register(still, first_interval=STILL)
+
+
+def still():
+    """The timer of `pack_when_still`: returns the seconds to wait again, or None when done."""
+    wait = _LAST_CHANGE[0] + STILL - time.monotonic()
+    if wait > 0.0 or RUNTIME.rendering:
+        return max(wait, STILL)
+    wm = bpy.context.window_manager
+    if wm is not None and any(w.screen is not None and w.screen.is_animation_playing
+                              for w in wm.windows):
+        return None
+    pack_layer_images()
+    return None
+
+
 @persistent
 def save_post(*_):
     """Back to what was on screen before the save."""
@@ -196,6 +226,8 @@ def register():
 
 
 def unregister():
+    if bpy.app.timers.is_registered(still):
+        bpy.app.timers.unregister(still)
     for name, fn in reversed(HANDLERS):
         handlers = getattr(bpy.app.handlers, name)
         while fn in handlers:

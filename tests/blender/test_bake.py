@@ -257,25 +257,37 @@ COMPANIONS_FRESH = textwrap.dedent("""
         body = bpy.data.objects["Ocean Water Body"]
         caster = bpy.data.objects["Ocean Shadow"]
         mesh = caster.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        nodes = body.data.materials[0].node_tree.nodes
         seen[str(frame)] = np.array([*body.location, float(body.hide_render),
-                                     len(mesh.vertices)])
+                                     len(mesh.vertices),
+                                     nodes["Caustic U Offset"].inputs[1].default_value])
+    tile = nodes["Caustic Tile"]
+    seen["tile"] = np.array([tile.image.source == "SEQUENCE", not nodes["Godrays"].mute,
+                             tile.image_user.frame_start, tile.image_user.frame_duration])
     np.savez(out, **seen)
 """)
 
 
 def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path):
     """With the water body and the shadow caster in use, a fresh process without the extension
-    finds the body where the live frames put it, shown, and the caster drawing the cache."""
+    finds the body where the live frames put it, shown, and the caster drawing the cache; the
+    godrays' caustic tile, written each frame, is an image sequence of the frames' tiles, and
+    the body material's inputs are the frames'."""
     scene, obj = moving
-    obj.projgrid.underwater = "ON"
+    obj.projgrid.underwater = obj.projgrid.godrays = "ON"
     body = obj.projgrid.water_body
-    want = {}
+    want, tiles = {}, {}
     for f in (1, 2):
         scene.frame_set(f)
         bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(),
                                   render=True)
-        want[f] = [*body.location, float(body.hide_render), RENDER_RES[0] * RENDER_RES[1]]
+        nodes = body.data.materials[0].node_tree.nodes
+        want[f] = [*body.location, float(body.hide_render), RENDER_RES[0] * RENDER_RES[1],
+                   nodes["Caustic U Offset"].inputs[1].default_value]
+        tiles[f] = np.empty(len(nodes["Caustic Tile"].image.pixels), np.float32)
+        nodes["Caustic Tile"].image.pixels.foreach_get(tiles[f])
     assert want[1][:2] != want[2][:2] and not want[1][3]  # it follows the moving camera
+    assert want[1][-1] != want[2][-1] and not np.array_equal(tiles[1], tiles[2])
     scene.frame_set(1)
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
@@ -289,8 +301,16 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
     seen = np.load(out)
     for f in (1, 2):
         assert np.allclose(seen[str(f)], want[f], atol=1e-5), (f, seen[str(f)], want[f])
+        saved = bpy.data.images.load(str(tmp_path / "sea_slopes" / f"godrays_{f:04d}.exr"))
+        pixels = np.empty(len(saved.pixels), np.float32)
+        saved.pixels.foreach_get(pixels)
+        assert np.allclose(pixels, tiles[f], rtol=2e-3, atol=1e-3)  # (half floats)
+    assert list(seen["tile"]) == [True, True, 1, 2]
     assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
     assert body.animation_data is None and not obj.projgrid.shadow_caster.modifiers
+    tree = body.data.materials[0].node_tree
+    assert tree.animation_data is None or not tree.animation_data.action
+    assert tree.nodes["Caustic Tile"].image.name == "Projected Grid Caustics"
 
 
 def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, tmp_path):

@@ -339,6 +339,14 @@ def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, 
     assert any(i.is_dirty for i in water.layer_images())
     bridge.handlers.playback_done()  # as when playback stops
     assert not any(i.is_dirty for i in water.layer_images())
+    # Scrubbing: packed by a timer once the frame stands still (timers do not run here).
+    scene.frame_set(9)
+    assert bpy.app.timers.is_registered(bridge.handlers.still)
+    assert bridge.handlers.still() > 0.0  # just changed: not yet
+    assert any(i.is_dirty for i in water.layer_images())
+    bridge.handlers._LAST_CHANGE[0] -= bridge.handlers.STILL
+    assert bridge.handlers.still() is None
+    assert not any(i.is_dirty for i in water.layer_images())
     scene.frame_set(10)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "layer.blend"))
     assert all(i.packed_file is not None and not i.is_dirty for i in water.layer_images())
