@@ -7,7 +7,7 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-fast test-core test-blender test-blender-4.5 lint package demo bench clean
+.PHONY: test test-unrendered test-fast test-core test-blender test-blender-4.5 lint package demo bench clean
 
 define make_venv
 	@py="$$(tools/find-python $(1))" && test -n "$$py" || { echo "Python $(1) not found"; exit 1; }; \
@@ -41,11 +41,15 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	touch $@
 
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-# The core (NumPy, one process) runs beside the 4.5 Blender tests: CI's two cores, and never two
-# EEVEE sessions at once. Each part's output is printed whole when it ends.
+# On CI's two cores: the 4.5 Blender tests beside the core's and 5.2's Blender tests that
+# render no shots, then 5.2's shots alone. Each part's output is printed whole when it ends.
 test: lint
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-core
-	$(PY) -m pytest tests/blender
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-unrendered
+	$(PY) -m pytest -m slow tests/blender
+
+test-unrendered: $(VENV)/.blender
+	$(PY) -m pytest tests/core
+	$(PY) -m pytest -m "not slow" tests/blender
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
 # grid) on 5.2, in about a minute.
