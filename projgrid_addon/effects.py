@@ -262,6 +262,16 @@ def calibrate_ahead(source, time, coverage, samples=16384):
     return started
 
 
+def finish_ahead():
+    """Wait for the calibrations being made ahead: before Blender runs long native work (a
+    render, the bake's export) with no thread of ours beside it (one beside the USD export
+    crashed Blender 4.5 in its exporter)."""
+    with _AHEAD_LOCK:
+        pending = list(_AHEAD["pending"].values())
+    for job in pending:
+        job.exception()  # waits; a worker's error is the frame's to meet, not this one's
+
+
 def _calibrate_into(source, cache, key):
     try:
         return _calibration(source, *key, cache=cache)

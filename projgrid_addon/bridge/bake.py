@@ -24,6 +24,7 @@ import bpy
 import numpy as np
 
 from ...shaders import water
+from .. import effects
 from . import mesh, scene, shot
 from .companions import COMPANIONS
 from .state import RUNTIME
@@ -135,6 +136,7 @@ def bake(context, obj, filepath, frame_start, frame_end):
     timer.node_group = _time_group()
     wm = context.window_manager
     RUNTIME.baking = recording
+    effects.finish_ahead()
     wm.progress_begin(frame_start, frame_end)
     try:
         the_scene.frame_start, the_scene.frame_end = frame_start, frame_end

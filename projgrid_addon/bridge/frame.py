@@ -135,7 +135,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         visible = result.visible
         boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
         foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level,
-                                   ahead=not render) if visible else None)
+                                   ahead=not render and not RUNTIME.baking) if visible else None)
         caustics = (effects.caustic_field(result.surface, facts)
                     if visible and on["caustics"] else None)
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)

@@ -15,6 +15,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...shaders import water
+from .. import effects
 from . import bake, companions, frame, scene
 from .state import RUNTIME
 
@@ -99,6 +100,7 @@ def render_init(the_scene, _=None):
     # its job thread: objects are made only with the interface locked (the viewport makes them
     # otherwise, at its next update).
     companions.use_viewport_mesh()  # after a render that ended without saying so
+    effects.finish_ahead()
     if bpy.app.background or the_scene.render.use_lock_interface:
         prepare(the_scene)
         for app in scene.appearances(the_scene):

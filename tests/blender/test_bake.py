@@ -6,6 +6,7 @@ import subprocess
 import sys
 import tempfile
 import textwrap
+import time
 
 import bpy
 import numpy as np
@@ -311,6 +312,30 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
     tree = body.data.materials[0].node_tree
     assert tree.animation_data is None or not tree.animation_data.action
     assert tree.nodes["Caustic Tile"].image.name == "Projected Grid Caustics"
+
+
+def test_no_calibration_runs_beside_the_export(moving, bridge, extension, monkeypatch,
+                                              tmp_path):
+    """The foam's calibrations made ahead on a worker (started by the viewport's frames) are
+    finished before Blender's exporter starts, and none starts while it runs (a worker beside
+    the export crashed Blender 4.5)."""
+    scene, obj = moving
+    effects = extension.projgrid_addon.effects
+    slow = effects._calibrate_into
+
+    def calibrate(*args):
+        time.sleep(0.3)
+        return slow(*args)
+
+    monkeypatch.setattr(effects, "_calibrate_into", calibrate)
+    seen, progress = [], bridge.bake.progress
+    monkeypatch.setattr(bridge.bake, "progress", lambda frame: (
+        seen.append(len(effects._AHEAD["pending"])), progress(frame)))
+    scene.frame_set(60)  # a viewport frame 2.5 s in: seconds 3 and 4 are calibrated ahead
+    assert effects._AHEAD["pending"]
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=2) == {"FINISHED"}
+    assert seen and not any(seen)
 
 
 def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, tmp_path):

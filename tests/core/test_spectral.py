@@ -365,8 +365,8 @@ def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
     source = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
     coverage = effects.whitecap_coverage(12.0)
     assert effects.calibrate_ahead(source, 10.3, coverage) == 2
-    for future in list(effects._AHEAD["pending"].values()):
-        future.result()
+    effects.finish_ahead()
+    assert not effects._AHEAD["pending"]
     assert effects.calibrate_ahead(source, 10.6, coverage) == 0  # made: nothing to start
     fresh = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
     for t in (11.0, 12.0):
