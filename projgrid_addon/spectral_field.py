@@ -197,6 +197,8 @@ class Cascade:
         # The waves it holds, each wave vector of the half lattice standing for k and -k.
         held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, half]
         self.shortest_held = 2.0 * np.pi / max(float(k[held].max(initial=0.0)), 1e-12)
+        self.longest_held = 2.0 * np.pi / max(float(k[held & (k > 0.0)].min(initial=np.inf)),
+                                              1e-12)
         self.headings = np.arctan2(self.ky[held], self.kx[held])
         self._factors = {}
 
@@ -388,7 +390,8 @@ class SpectralField:
 
     @property
     def longest_wave(self):
-        return max(c.size for c in self.cascades) / 2.0 if self.cascades else 0.0
+        """The longest wave (m) a tile holds."""
+        return max(c.longest_held for c in self.cascades) if self.cascades else 0.0
 
     def whole_level(self, wavelength):
         """The band limit from which waves of `wavelength` (m) are whole in the geometry: that
