@@ -96,15 +96,28 @@ def band_shares(state):
     first band, the shorter than the last band's with none."""
     edges = [2.0 * np.pi / lo for lo, _ in bands()]  # wavenumbers of the bands' short ends
     omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *edges]))
-    parts, core = [], 0.0
+    parts, core, own = [], 0.0, has_swell_core(state)
     for a, b in zip(omega[:-1], omega[1:], strict=True):
         w = np.linspace(max(a, 1e-4), b, 4000)
-        inside = float(spectrum.integrate(spectrum.swell_core_spectrum(w, state), w))
+        inside = (float(spectrum.integrate(spectrum.swell_core_spectrum(w, state), w)) if own
+                  else 0.0)
         parts.append(float(spectrum.integrate(spectrum.wind_spectrum(w, state)
                                               + spectrum.swell_spectrum(w, state), w)) - inside)
         core += inside
     total = sum(parts) + core
     return [p / total if total > 0.0 else 0.0 for p in [*parts, core]]
+
+
+def has_swell_core(state):
+    """Whether the swell's core has tiles of its own: a swell longer than the slope layer's
+    bands (slope_layer.py: their tiles hold the whole spectrum; a swell of a few seconds stays
+    in the bands)."""
+    return state.swell_height > 0.0 and swell_core_waves(state)[0] >= bands()[LAYER_FIRST][1]
+
+
+def _band_of(wavelength):
+    """The index of the band holding `wavelength` (m); the first for longer waves."""
+    return min(sum(lo > wavelength for lo, _ in bands()), BANDS - 1)
 
 
 def swell_core_waves(state):
@@ -277,7 +290,7 @@ class SpectralField:
         if self.texels & (self.texels - 1):
             raise ValueError(f"texels: must be a power of two, got {self.texels}")
         self.cascades, self.levels, self.groups = [], [], []
-        swell = state.swell_height > 0.0
+        swell = has_swell_core(state)
         shares = band_shares(state)
         for b, ((shortest, longest), share) in enumerate(zip(
                 [*bands(), swell_core_waves(state)], shares, strict=True)):
@@ -321,7 +334,12 @@ class SpectralField:
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
         self.warp = Warp(self.seed)
         self._prepared = None
+        # The shader's stand-in noise draws the bands the geometry leaves out, the swell's
+        # core with its band (where the geometry drops it, nothing else draws it).
         self._shares = shares[:BANDS]
+        if swell:
+            peak = spectrum.GRAVITY * state.swell_period**2 / (2.0 * np.pi)
+            self._shares[_band_of(peak)] += shares[BANDS]
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
@@ -396,9 +414,7 @@ class SpectralField:
     def whole_level(self, wavelength):
         """The band limit from which waves of `wavelength` (m) are whole in the geometry: that
         of the band holding them (a band fades in whole), its level + 1."""
-        edges = [shortest for shortest, _ in bands()]
-        band = min(sum(e > wavelength for e in edges), BANDS - 1)  # bands longer than it
-        return band_level(edges[band]) + 1.0
+        return band_level(bands()[_band_of(wavelength)][0]) + 1.0
 
     def foam_levels(self):
         """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's

@@ -613,10 +613,10 @@ def play_layer_sequences(mat, files, first, last):
         _drop_baked(old, BAKED_LAYER)
 
 
-def play_caustic_sequence(mat, file, first, last):
+def play_caustic_sequence(mat, file, first, last, texels):
     """The godrays' caustic tile of a water body material read from an image sequence (the
     file of frame `first`, numbered up to `last`), as a bake wrote it; `file` None: back to
-    our image written each frame."""
+    our image written each frame, `texels` square."""
     node = mat.node_tree.nodes.get("Caustic Tile")
     if node is None:
         return
@@ -624,7 +624,7 @@ def play_caustic_sequence(mat, file, first, last):
     if file is None:
         if old is None or not old.name.startswith(BAKED_CAUSTICS):
             return
-        _play(node, caustic_image(old.size[0]), first, last)
+        _play(node, caustic_image(texels), first, last)  # (a sequence's size is 0 unread)
     else:
         _play(node, _sequence(file, BAKED_CAUSTICS), first, last)
     _drop_baked(old, BAKED_CAUSTICS)

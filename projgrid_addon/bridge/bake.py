@@ -361,7 +361,8 @@ def _play(obj, path, relative, recording):
             _fill_frames(recording)
             body.node_tree.nodes["Godrays"].mute = False
             water.play_caustic_sequence(body, file(recording.tiles[recording.first]),
-                                        recording.first, recording.last)
+                                        recording.first, recording.last,
+                                        effects.GODRAY_TILE_TEXELS)
             switched = switched or len(set(recording.godrays.values())) > 1
     if switched:
         return ("effects switch on and off within the frames: the bake draws them on "
@@ -505,7 +506,7 @@ def free(obj):
     body = _body_material(obj)
     if body is not None:
         _unkey(body.node_tree)
-        water.play_caustic_sequence(body, None, 0, 0)
+        water.play_caustic_sequence(body, None, 0, 0, effects.GODRAY_TILE_TEXELS)
     if cache is not None and cache.get(scene.TAG) and not any(
             getattr(m, "cache_file", None) == cache for o in bpy.data.objects
             for m in o.modifiers):

@@ -134,8 +134,11 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         on = {e: d[0] for e, d in decisions.items()}
         visible = result.visible
         boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
+        # Calibrations ahead (a worker thread) only for the viewport's frames, none beside a
+        # render or the bake's export.
+        ahead = not (render or RUNTIME.rendering or RUNTIME.baking)
         foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level,
-                                   ahead=not render and not RUNTIME.baking) if visible else None)
+                                   ahead=ahead) if visible else None)
         caustics = (effects.caustic_field(result.surface, facts)
                     if visible and on["caustics"] else None)
         godrays = (effects.godray_field(hf, t, cam.position, level, facts)

@@ -237,6 +237,21 @@ def test_a_swell_across_the_view_stays_in_the_geometry(seed):
     assert sigma["across"] > max(0.2, 2.0 * others) and others < 0.13, sigma
 
 
+def test_the_swell_s_core_is_drawn_wherever_the_geometry_drops_it():
+    """The shader's stand-in noise for the bands the geometry leaves out counts the swell's
+    core with the band of its peak (the bands' shares, with it, are the whole sea); a swell of
+    a few seconds, among the slope layer's bands (whose tiles hold the whole spectrum), has no
+    tiles of its own."""
+    for period, own in ((12.0, True), (6.0, True), (3.0, False), (1.5, False)):
+        state = SeaState(wind_speed=5.0, swell_height=1.0, swell_period=period)
+        source = SpectralField(state, seed=2)
+        assert spectral_field.has_swell_core(state) == own
+        assert any(along is not None for _, along, _ in source.groups) == own
+        assert sum(source._shares) == pytest.approx(1.0, abs=1e-6), period
+        h = surface(source, 3.0, 6000.0, 600)
+        assert 4.0 * h.std() == pytest.approx(spectrum.significant_height(state), rel=0.08)
+
+
 @pytest.mark.parametrize("heading", [np.pi / 2, 2.2, 2.9])
 def test_no_swell_wave_the_geometry_keeps_aliases(heading):
     """Wherever the grid keeps any of the swell's core (its weight above 0), every wave vector
