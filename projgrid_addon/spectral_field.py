@@ -121,10 +121,13 @@ def _band_of(wavelength):
 
 
 def swell_core_waves(state):
-    """(shortest, longest) wavelength (m) of the swell's core: lambda = 2 pi g / omega^2."""
-    peak = 2.0 * np.pi / state.swell_period
-    return tuple(2.0 * np.pi * spectrum.GRAVITY / (f * peak) ** 2
-                 for f in reversed(spectrum.SWELL_CORE))
+    """(shortest, longest) wavelength (m) of the swell's core."""
+    return tuple(swell_wave(state, f) for f in reversed(spectrum.SWELL_CORE))
+
+
+def swell_wave(state, f=1.0):
+    """The wavelength (m) of `f` times the swell's peak frequency: 2 pi g / omega^2."""
+    return 2.0 * np.pi * spectrum.GRAVITY / (f * 2.0 * np.pi / state.swell_period) ** 2
 
 
 def _slope_variance(state, shortest, longest, samples=4000):
@@ -165,7 +168,7 @@ class Cascade:
     vectors of a band (wavelengths between `shortest` and `longest`) with `share` of the band's
     energy (of the spectrum's `part`: spectrum.wavenumber_spectrum). Its lattice is the tile's;
     its wave vectors, and so its fields, are the world's. `smooth`: it has no choppy
-    displacement (`held`, the fields it gives, leaves those out)."""
+    displacement (`gives`, the fields it gives, leaves those out)."""
 
     def __init__(self, size, angle, shortest, longest, share, state, phases, texels,
                  part=None, smooth=False):
@@ -206,7 +209,7 @@ class Cascade:
         safe = np.where(k > 0.0, k, 1.0)
         self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
         self.empty = not np.any(energy > 0.0)
-        self.held = frozenset(range(len(FIELDS))) - (set(SIDEWAYS) if smooth else set())
+        self.gives = frozenset(range(len(FIELDS))) - (set(SIDEWAYS) if smooth else set())
         # The waves it holds, each wave vector of the half lattice standing for k and -k.
         held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, half]
         self.shortest_held = 2.0 * np.pi / max(float(k[held].max(initial=0.0)), 1e-12)
@@ -242,8 +245,8 @@ class Cascade:
     def fields(self, t, lam, which):
         """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
         t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
-        |(dx, dy)| of the samples (0 where those fields were not asked for or not held)."""
-        which = [f for f in which if f in self.held]
+        |(dx, dy)| of the samples (0 where those fields were not asked for or not given)."""
+        which = [f for f in which if f in self.gives]
         if not which:
             return {}, 0.0, 0.0
         real = self.samples(t, lam, which)
@@ -289,7 +292,7 @@ class SpectralField:
         self.texels = integer("texels", texels, 8, 1024)
         if self.texels & (self.texels - 1):
             raise ValueError(f"texels: must be a power of two, got {self.texels}")
-        self.cascades, self.levels, self.groups = [], [], []
+        self.cascades, self.groups = [], []  # groups: (level, along, tiles) per band
         swell = has_swell_core(state)
         shares = band_shares(state)
         for b, ((shortest, longest), share) in enumerate(zip(
@@ -312,17 +315,16 @@ class SpectralField:
                                   smooth=core)
                 if not cascade.empty:
                     self.cascades.append(cascade)
-            held = self.cascades[first:]
-            if not held:
+            made = self.cascades[first:]
+            if not made:
                 continue
             if core:  # the band limit of the waves its tiles hold, along their directions
-                level = band_level(min(c.shortest_held for c in held))
-                off = max(_line_angle(c.headings, state.swell_direction) for c in held)
+                level = band_level(min(c.shortest_held for c in made))
+                off = max(_line_angle(c.headings, state.swell_direction) for c in made)
                 along = (np.cos(state.swell_direction), np.sin(state.swell_direction),
                          np.cos(off), np.sin(off))
             else:
                 level, along = band_level(shortest), None
-            self.levels += [level] * len(held)
             self.groups.append((level, along, range(first, len(self.cascades))))
         # The band limit (band_limit.py) in units of 1 m: a band is kept whole while its shortest
         # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.
@@ -338,8 +340,7 @@ class SpectralField:
         # core with its band (where the geometry drops it, nothing else draws it).
         self._shares = shares[:BANDS]
         if swell:
-            peak = spectrum.GRAVITY * state.swell_period**2 / (2.0 * np.pi)
-            self._shares[_band_of(peak)] += shares[BANDS]
+            self._shares[_band_of(swell_wave(state))] += shares[BANDS]
         self._m0 = spectrum.moments(state)[0]
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
@@ -366,7 +367,7 @@ class SpectralField:
         every time; the displacement's is lambda times the height's (|k / |k|| = 1) over the
         tiles that are displaced."""
         power = [float(np.sum(c.power())) for c in self.cascades]
-        moved = sum(p for p, c in zip(power, self.cascades, strict=True) if 1 in c.held)
+        moved = sum(p for p, c in zip(power, self.cascades, strict=True) if 1 in c.gives)
         return float(np.sqrt(sum(power))), float(self.choppiness * np.sqrt(moved))
 
     def autocorrelation(self, lags, fine=4, samples=256):
@@ -400,6 +401,11 @@ class SpectralField:
                         (shift, Warp.turn(j))).sample(acf)
         out = out.reshape(lags.shape[1:]) / len(shifts) if flat.shape[1] else out
         return out / self.spread[0] ** 2 if self.cascades else out
+
+    @property
+    def levels(self):
+        """The band limits of the bands (and the swell's core) in the tiles, one each."""
+        return [level for level, _, _ in self.groups]
 
     @property
     def first_level(self):
@@ -571,7 +577,7 @@ class SpectralField:
         turn moves the points."""
         mins = {}
         for (level, _, tiles), lod in zip(self.groups, lods, strict=True):
-            if not self.cascades[tiles[0]].held.intersection(fields):
+            if not self.cascades[tiles[0]].gives.intersection(fields):
                 continue
             if on_grid and id(lod) not in mins:
                 mins[id(lod)] = lod.min(axis=1)

@@ -201,19 +201,22 @@ def in_swell_core(omega, theta, state):
     within SWELL_HALF_ANGLE of its direction (never, without a swell)."""
     if state.swell_height <= 0.0:
         return np.zeros(np.broadcast(omega, theta).shape, bool)
-    ratio = np.asarray(omega) * (state.swell_period / (2.0 * np.pi))
     off = np.abs(np.angle(np.exp(1j * (np.asarray(theta) - state.swell_direction))))
-    return (ratio >= SWELL_CORE[0]) & (ratio < SWELL_CORE[1]) & (off <= SWELL_HALF_ANGLE)
+    return _core_frequencies(omega, state) & (off <= SWELL_HALF_ANGLE)
+
+
+def _core_frequencies(omega, state):
+    """Whether `omega` lies within SWELL_CORE times the swell's peak frequency."""
+    ratio = np.asarray(omega, dtype=np.float64) * (state.swell_period / (2.0 * np.pi))
+    return (ratio >= SWELL_CORE[0]) & (ratio < SWELL_CORE[1])
 
 
 def swell_core_spectrum(omega, state):
     """S(omega) of the swell's core (`in_swell_core`) over all its directions: the swell's
     within SWELL_CORE times the share of its spreading within SWELL_HALF_ANGLE,
     tanh(beta a) / tanh(beta pi)."""
-    ratio = np.asarray(omega, dtype=np.float64) * (state.swell_period / (2.0 * np.pi))
-    inside = (ratio >= SWELL_CORE[0]) & (ratio < SWELL_CORE[1])
     share = np.tanh(SWELL_SPREAD * SWELL_HALF_ANGLE) / np.tanh(SWELL_SPREAD * np.pi)
-    return np.where(inside, swell_spectrum(omega, state) * share, 0.0)
+    return np.where(_core_frequencies(omega, state), swell_spectrum(omega, state) * share, 0.0)
 
 
 def moments(state, n=(0,), samples=20_000):

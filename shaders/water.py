@@ -445,11 +445,16 @@ def caustic_image(size):
     return image
 
 
+def caustic_tap(mat):
+    """The godrays' caustic tile node of a water body material (None if it has none)."""
+    return mat.node_tree.nodes.get("Caustic Tile")
+
+
 def update_godrays(mat, tile, lookup):
     """The caustic tile's intensities (n x n) into our image and its `lookup` ((a, b, c): the
     texture coordinates of a point Q are a.Q + c[0], b.Q + c[1]) into the body material."""
     nodes = mat.node_tree.nodes
-    node = nodes.get("Caustic Tile")
+    node = caustic_tap(mat)
     if node is None:
         return
     if node.image is None or not node.image.get(TAG) or tuple(node.image.size) != tile.shape:
@@ -617,7 +622,7 @@ def play_caustic_sequence(mat, file, first, last, texels):
     """The godrays' caustic tile of a water body material read from an image sequence (the
     file of frame `first`, numbered up to `last`), as a bake wrote it; `file` None: back to
     our image written each frame, `texels` square."""
-    node = mat.node_tree.nodes.get("Caustic Tile")
+    node = caustic_tap(mat)
     if node is None:
         return
     old = node.image

@@ -56,7 +56,7 @@ class Recording:
     muted: dict = field(default_factory=dict)  # node name -> {frame: muted}
     images: dict = field(default_factory=dict)  # band -> first frame's file name
     companions: dict = field(default_factory=dict)  # (name, data path) -> {frame: value}
-    body_animated: set | None = None  # as `animated`, of the water body's material
+    body_animated: set = field(default_factory=set)  # as `animated`, of the body's material
     body_values: dict = field(default_factory=dict)  # as `values`
     godrays: dict = field(default_factory=dict)  # frame -> shown (the branch not muted)
     tiles: dict = field(default_factory=dict)  # frame -> caustic tile file name
@@ -130,8 +130,10 @@ def bake(context, obj, filepath, frame_start, frame_end):
     frame_range, frame = (the_scene.frame_start, the_scene.frame_end), the_scene.frame_current
     selected, active = [o for o in view_layer.objects if o.select_get()], view_layer.objects.active
     mat = water.material_of(obj.data)
+    body = _body_material(obj)
     recording = Recording(frame_start, frame_end, obj.name, tempfile.mkdtemp(dir=folder_of(path)),
-                          _animated(mat.node_tree) if mat is not None else set())
+                          _animated(mat.node_tree) if mat is not None else set(),
+                          body_animated=_animated(body.node_tree) if body is not None else set())
     timer = obj.modifiers.new(TIMER, "NODES")
     timer.node_group = _time_group()
     wm = context.window_manager
@@ -236,10 +238,8 @@ def _record(recording, frame):
         recording.images.setdefault(b, os.path.basename(name))
     body = _body_material(obj)
     if body is not None:
-        if recording.body_animated is None:
-            recording.body_animated = _animated(body.node_tree)
         _record_sockets(body.node_tree, recording.body_animated, recording.body_values, frame)
-        tile = body.node_tree.nodes.get("Caustic Tile")
+        tile = water.caustic_tap(body)
         state = RUNTIME.peek(obj)
         recording.godrays[frame] = bool(state is not None and state.effects
                                         and state.effects.get("godrays", (False,))[0])
