@@ -1,10 +1,11 @@
 """Bake: the ocean's frames written into a USD mesh cache that it then plays, so the file renders
-on farms that run no scripts and in other packages (projgrid_addon/bridge/bake.py)."""
+on farms that run no scripts and in other packages (projgrid_addon/bridge/bake.py). From the
+interface it runs frame by frame, Esc cancelling; from a script or the command line, at once."""
 
 import os
 
 import bpy
-from bpy.props import IntProperty, StringProperty
+from bpy.props import BoolProperty, IntProperty, StringProperty
 
 from ..projgrid_addon.bridge import bake, scene
 
@@ -23,6 +24,7 @@ class PROJGRID_OT_bake(bpy.types.Operator):
     filter_glob: StringProperty(default="*.usd;*.usdc;*.usda", options={"HIDDEN"})
     frame_start: IntProperty(name="Start", description="First frame to bake", default=1)
     frame_end: IntProperty(name="End", description="Last frame to bake", default=250)
+    interactive: BoolProperty(options={"HIDDEN", "SKIP_SAVE"})  # invoked: frame by frame
 
     @classmethod
     def poll(cls, context):
@@ -34,6 +36,7 @@ class PROJGRID_OT_bake(bpy.types.Operator):
             self.frame_start = context.scene.frame_start
         if not self.properties.is_property_set("frame_end"):
             self.frame_end = context.scene.frame_end
+        self.interactive = True
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 
@@ -42,11 +45,65 @@ class PROJGRID_OT_bake(bpy.types.Operator):
         print(f"Projected Grid Ocean: baking {obj.name!r}, frames {self.frame_start}-"
               f"{self.frame_end}, into {self.filepath}", flush=True)
         try:
-            path, warning = bake.bake(context, obj, self.filepath, self.frame_start,
-                                      self.frame_end)
+            self._job = bake.Bake(context, obj, self.filepath, self.frame_start,
+                                  self.frame_end)
+            if not self.interactive or context.window is None:
+                while self._job.step():
+                    pass
+                return self._finish(context)
         except (ValueError, RuntimeError) as err:
-            self.report({"ERROR"}, f"Bake not made, the ocean is live: {err}")
+            return self._failed(err)
+        self._writing = False
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.001, window=context.window)
+        wm.modal_handler_add(self)
+        self._status(context, f"frame {self.frame_start}")
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC" and event.value == "PRESS":
+            self._job.cancel()
+            self._end(context)
+            self.report({"INFO"}, f"Bake cancelled at frame {self._job.next}: the ocean is "
+                        "live and nothing was written")
             return {"CANCELLED"}
+        if event.type != "TIMER":
+            return {"RUNNING_MODAL"}  # the interface waits for the bake, as for a render
+        if self._writing:
+            self._end(context)
+            try:
+                return self._finish(context)
+            except (ValueError, RuntimeError) as err:
+                return self._failed(err)
+        try:
+            more = self._job.step()
+        except (ValueError, RuntimeError) as err:
+            self._end(context)
+            return self._failed(err)
+        if more:
+            self._status(context, f"frame {self._job.next}")
+        else:  # shown before the export blocks the interface
+            self._writing = True
+            self._status(context, "writing the USD file")
+        return {"RUNNING_MODAL"}
+
+    def _status(self, context, what):
+        job = self._job
+        context.workspace.status_text_set(
+            f"Baking {job.obj.name!r}: {what} of {self.frame_start}-{self.frame_end} "
+            f"({job.done:.0%}), Esc to cancel")
+
+    def _end(self, context):
+        context.window_manager.event_timer_remove(self._timer)
+        context.workspace.status_text_set(None)
+
+    def _failed(self, err):
+        self.report({"ERROR"}, f"Bake not made, the ocean is live: {err}")
+        return {"CANCELLED"}
+
+    def _finish(self, context):
+        path, warning = self._job.finish()
+        obj = self._job.obj
         size = os.path.getsize(path) / 2**20
         self.report({"INFO"}, f"Baked {obj.name!r}, frames {self.frame_start}-{self.frame_end}, "
                     f"into {path} ({size:.0f} MB); it now plays the bake")

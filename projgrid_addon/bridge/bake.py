@@ -2,17 +2,20 @@
 switched to play them with a Mesh Sequence Cache modifier, so the file renders those frames
 where no script runs (a farm that blocks Python, the extension not installed).
 
-Blender's own USD exporter writes the meshes: it steps through the frames as a render does,
-so our frame handler builds each frame's render grid for the scene camera, and the exporter
-writes it with the attributes the material reads (the projector UV map under its own name,
-foam, detail); not its normals, which Blender computes alike from the positions (2.5 MB a frame
-at 257x513 instead of 8.5). The exporter samples a mesh per frame only for objects that change
-with time, so the ocean carries a modifier of ours whose output depends on the scene time (and
-moves nothing) while it writes. As it steps, the frame handler records what our material is
-given each frame (`progress`): the inputs that change are keyed afterwards, the slope layer's
-images saved as numbered EXR files; the water body's material and its godrays' caustic tile
-alike. Everything is written beside its target and renamed onto
-it only when whole, and the ocean is switched only then: a failed bake leaves it live.
+First each frame is built as a render builds it (`Bake.step`, one frame at a time, so the
+operator can run it from the interface and Esc cancel it between frames): the frame handler
+builds the render grid for the scene camera, keeps the mesh's arrays in a folder beside the
+target (`keep`) and records what our material is given (`progress`): the inputs that change
+are keyed afterwards, the slope layer's images saved as numbered EXR files; the water body's
+material and its godrays' caustic tile alike. Then Blender's own USD exporter steps through
+the frames as a render does, and the frame handler writes it each kept mesh (`kept`): the
+exporter writes them with the attributes the material reads (the projector UV map under its own
+name, foam, detail); not their normals, which Blender computes alike from the positions (2.5
+MB a frame at 257x513 instead of 8.5). The exporter samples a mesh per frame only for objects
+that change with time, so the ocean carries a modifier of ours whose output depends on the
+scene time (and moves nothing) while it writes. Everything is written beside its target and
+renamed onto it only when whole, and the ocean is switched only then: a failed or cancelled
+bake leaves it live.
 """
 
 import os
@@ -61,6 +64,8 @@ class Recording:
     godrays: dict = field(default_factory=dict)  # frame -> shown (the branch not muted)
     tiles: dict = field(default_factory=dict)  # frame -> caustic tile file name
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
+    frames: str = ""  # a folder of each frame's mesh arrays (`keep`), read by the export
+    replaying: bool = False  # the exporter runs: the frames are written from `frames`
 
 
 def cache_modifier(obj):
@@ -119,57 +124,127 @@ def check(the_scene, view_layer, obj, filepath, frame_start, frame_end):
 
 def bake(context, obj, filepath, frame_start, frame_end):
     """Write frames frame_start..frame_end of ocean `obj` into `filepath` and switch it to play
-    them; returns (the file's absolute path, a warning or None). Raises ValueError (bad input)
-    or RuntimeError (the export failed); in both cases the ocean is live (an earlier bake of it
-    undone) and the scene as it was."""
-    the_scene, view_layer = context.scene, context.view_layer
-    path = check(the_scene, view_layer, obj, filepath, frame_start, frame_end)
-    free(obj)  # a bake again: the exporter must see the live sea
-    stem, ext = os.path.splitext(path)
-    partial, slopes = f"{stem}.partial{ext}", f"{stem}_slopes"
-    frame_range, frame = (the_scene.frame_start, the_scene.frame_end), the_scene.frame_current
-    selected, active = [o for o in view_layer.objects if o.select_get()], view_layer.objects.active
-    mat = water.material_of(obj.data)
-    body = _body_material(obj)
-    recording = Recording(frame_start, frame_end, obj.name, tempfile.mkdtemp(dir=folder_of(path)),
-                          _animated(mat.node_tree) if mat is not None else set(),
-                          body_animated=_animated(body.node_tree) if body is not None else set())
-    timer = obj.modifiers.new(TIMER, "NODES")
-    timer.node_group = _time_group()
-    wm = context.window_manager
-    RUNTIME.baking = recording
-    effects.finish_ahead()
-    wm.progress_begin(frame_start, frame_end)
-    try:
-        the_scene.frame_start, the_scene.frame_end = frame_start, frame_end
-        for o in selected:
-            o.select_set(False)
-        obj.select_set(True)
-        view_layer.objects.active = obj
-        with context.temp_override(selected_objects=[obj], active_object=obj):
-            done = bpy.ops.wm.usd_export(
-                filepath=partial, check_existing=False, selected_objects_only=True,
-                export_animation=True, evaluation_mode="RENDER", export_materials=False,
-                rename_uvmaps=False, export_normals=False, export_custom_properties=False,
-                export_lights=False, export_cameras=False, allow_unicode=False)
-        if recording.error:
-            raise RuntimeError(recording.error)
-        if "FINISHED" not in done or not os.path.exists(partial):
-            raise RuntimeError("the USD export did not finish")
-        os.replace(partial, path)
-        if recording.images or recording.tiles:
-            if os.path.isdir(slopes):
-                shutil.rmtree(slopes)
-            os.replace(recording.slopes, slopes)
-            recording.slopes = slopes
-    except OSError as err:
-        raise RuntimeError(f"writing {path!r} failed: {err.strerror}") from None
-    finally:
+    them, at once (`Bake` step by step); returns (the file's absolute path, a warning or
+    None). Raises ValueError (bad input) or RuntimeError (the export failed); in both cases the
+    ocean is live (an earlier bake of it undone) and the scene as it was."""
+    job = Bake(context, obj, filepath, frame_start, frame_end)
+    while job.step():
+        pass
+    return job.finish()
+
+
+class Bake:
+    """A bake in steps, so that the operator runs it frame by frame in the interface and Esc
+    cancels it between frames. `step` builds one frame's render grid for the scene camera (the
+    frame handler records what our material is given, `progress`, and keeps the mesh's arrays
+    in a folder beside the target, `keep`); `finish` has Blender's USD exporter write the kept
+    meshes (it blocks the interface, but builds nothing) and switches the ocean to play the
+    file; `cancel` leaves the ocean live and nothing on disk. Any failure does as `cancel`
+    and raises."""
+
+    def __init__(self, context, obj, filepath, frame_start, frame_end):
+        self.context, self.obj = context, obj
+        self.scene, self.view_layer = context.scene, context.view_layer
+        self.path = check(self.scene, self.view_layer, obj, filepath, frame_start, frame_end)
+        self.relative = filepath.startswith("//")
+        free(obj)  # a bake again: the frames are built from the live sea
+        self.frame = self.scene.frame_current
+        mat, body = water.material_of(obj.data), _body_material(obj)
+        folder = folder_of(self.path)
+        self.recording = Recording(
+            frame_start, frame_end, obj.name, tempfile.mkdtemp(dir=folder),
+            _animated(mat.node_tree) if mat is not None else set(),
+            body_animated=_animated(body.node_tree) if body is not None else set(),
+            frames=tempfile.mkdtemp(dir=folder, prefix=".projgrid-frames-"))
+        self.next = frame_start
+        RUNTIME.baking = self.recording
+        effects.finish_ahead()
+        context.window_manager.progress_begin(frame_start, frame_end)
+
+    @property
+    def done(self):
+        """The share of the frames built."""
+        first, last = self.recording.first, self.recording.last
+        return (self.next - first) / (last - first + 1)
+
+    def step(self):
+        """Build the next frame; returns whether frames are left to build."""
+        try:
+            RUNTIME.state(self.obj).key = None  # built even if nothing changed since
+            self.scene.frame_set(self.next)
+            if self.recording.error:
+                raise RuntimeError(self.recording.error)
+        except BaseException:
+            self._close()
+            raise
+        self.next += 1
+        return self.next <= self.recording.last
+
+    def cancel(self):
+        """Stop: the ocean live, the scene at its frame, nothing of the bake on disk."""
+        self._close()
+
+    def finish(self):
+        """Export the frames built and play them: (the file's path, a warning or None)."""
+        recording, the_scene, obj = self.recording, self.scene, self.obj
+        stem, ext = os.path.splitext(self.path)
+        partial, slopes = f"{stem}.partial{ext}", f"{stem}_slopes"
+        frame_range = (the_scene.frame_start, the_scene.frame_end)
+        view_layer = self.view_layer
+        selected = [o for o in view_layer.objects if o.select_get()]
+        active = view_layer.objects.active
+        timer = obj.modifiers.new(TIMER, "NODES")
+        timer.node_group = _time_group()
+        recording.replaying = True
+        try:
+            the_scene.frame_start, the_scene.frame_end = recording.first, recording.last
+            for o in selected:
+                o.select_set(False)
+            obj.select_set(True)
+            view_layer.objects.active = obj
+            with self.context.temp_override(selected_objects=[obj], active_object=obj):
+                done = bpy.ops.wm.usd_export(
+                    filepath=partial, check_existing=False, selected_objects_only=True,
+                    export_animation=True, evaluation_mode="RENDER", export_materials=False,
+                    rename_uvmaps=False, export_normals=False, export_custom_properties=False,
+                    export_lights=False, export_cameras=False, allow_unicode=False)
+            if recording.error:
+                raise RuntimeError(recording.error)
+            if "FINISHED" not in done or not os.path.exists(partial):
+                raise RuntimeError("the USD export did not finish")
+            os.replace(partial, self.path)
+            if recording.images or recording.tiles:
+                if os.path.isdir(slopes):
+                    shutil.rmtree(slopes)
+                os.replace(recording.slopes, slopes)
+                recording.slopes = slopes
+        except OSError as err:
+            raise RuntimeError(f"writing {self.path!r} failed: {err.strerror}") from None
+        finally:
+            obj.modifiers.remove(timer)
+            the_scene.frame_start, the_scene.frame_end = frame_range
+            for o in view_layer.objects:
+                o.select_set(o in selected)
+            view_layer.objects.active = active
+            self._close(slopes)
+        try:
+            return self.path, _play(obj, self.path, self.relative, recording)
+        except Exception as err:
+            free(obj)
+            raise RuntimeError(f"playing {self.path!r} failed: {err}") from err
+
+    def _close(self, kept=None):
+        """The bake's state undone and its scratch removed (the folder `kept` stays), the
+        scene back at its frame."""
+        recording, path = self.recording, self.path
+        if RUNTIME.baking is not recording:
+            return
         RUNTIME.baking = None
-        wm.progress_end()
-        if recording.slopes != slopes:  # the frames' images of a bake not made
+        self.context.window_manager.progress_end()
+        if recording.slopes != kept:  # the frames' images of a bake not made
             shutil.rmtree(recording.slopes, ignore_errors=True)
-        leftover = os.path.basename(stem) + ".partial."  # ours, and USD's temporary files
+        shutil.rmtree(recording.frames, ignore_errors=True)
+        leftover = os.path.basename(os.path.splitext(path)[0]) + ".partial."  # ours and USD's
         for name in os.listdir(folder_of(path)):
             full = os.path.join(folder_of(path), name)
             if name.startswith(leftover) and os.path.isfile(full):
@@ -177,20 +252,39 @@ def bake(context, obj, filepath, frame_start, frame_end):
                     os.remove(full)
                 except OSError:
                     pass  # the error being raised says more
-        obj.modifiers.remove(timer)
         for block in (bpy.data.node_groups.get(TIMER), bpy.data.images.get(SCRATCH)):
             if block is not None and block.get(scene.TAG) and block.users == 0:
                 bpy.data.batch_remove([block])
-        the_scene.frame_start, the_scene.frame_end = frame_range
-        for o in view_layer.objects:
-            o.select_set(o in selected)
-        view_layer.objects.active = active
-        the_scene.frame_set(frame)
+        RUNTIME.state(self.obj).key = None
+        self.scene.frame_set(self.frame)
+
+
+def baking(app):
+    """The Recording of the bake being made of appearance `app`'s ocean, or None."""
+    recording = RUNTIME.baking
+    if recording is None or app.needs_stand_in or app.ocean.name != recording.ocean:
+        return None
+    return recording
+
+
+def keep(frame, arrays):
+    """Keep frame `frame`'s mesh arrays (mesh.grid_arrays; None: empty) for the export."""
+    recording = RUNTIME.baking
+    if recording.replaying or not recording.first <= frame <= recording.last:
+        return
     try:
-        return path, _play(obj, path, filepath.startswith("//"), recording)
-    except Exception as err:
-        free(obj)
-        raise RuntimeError(f"playing {path!r} failed: {err}") from err
+        np.savez(os.path.join(recording.frames, f"{frame}.npz"), **(arrays or {}))
+    except OSError as err:
+        recording.error = f"keeping frame {frame} failed: {err.strerror}"
+
+
+def kept(frame):
+    """The mesh arrays `keep` kept of `frame` (None: an empty mesh, or a frame not built)."""
+    try:
+        with np.load(os.path.join(RUNTIME.baking.frames, f"{frame}.npz")) as data:
+            return {name: data[name] for name in data.files} or None
+    except OSError:
+        return None
 
 
 def folder_of(path):
@@ -203,9 +297,12 @@ def progress(frame):
     recording = RUNTIME.baking
     if not recording.first <= frame <= recording.last or recording.error:
         return
-    print(f"Projected Grid Ocean: baking frame {frame} ({frame - recording.first + 1} of "
+    what = "writing" if recording.replaying else "baking"
+    print(f"Projected Grid Ocean: {what} frame {frame} ({frame - recording.first + 1} of "
           f"{recording.last - recording.first + 1})", flush=True)
     bpy.context.window_manager.progress_update(frame)
+    if recording.replaying:
+        return
     try:
         _record(recording, frame)
     except (OSError, RuntimeError, ValueError) as err:  # raised again after the export

@@ -66,6 +66,11 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     ocean = app.ocean
     if bake.is_baked(ocean):
         return None  # it plays its bake (bake.py): nothing of it is rebuilt
+    baking = bake.baking(app)
+    if baking is not None and baking.replaying:
+        mesh.write_arrays(ocean.data, bake.kept(the_scene.frame_current))
+        return None
+    render = render or baking is not None  # the bake's frames are the render's
     making = not render and not RUNTIME.rendering
 
     # Read: what draws it, whether it shows, and every input of the rebuild.
@@ -166,11 +171,14 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                scale=(1.0, 1.0, 1.0))
         to_local = np.eye(3)
     try:
-        mesh.write_grid(surface.data, result, to_local, foam, caustics)
+        arrays = mesh.grid_arrays(result, to_local, foam, caustics)
+        mesh.write_arrays(surface.data, arrays)
     except (MemoryError, RuntimeError) as e:
         kind = "out of memory" if isinstance(e, MemoryError) else str(e)
         return state.refused(f"writing the {res[0]}x{res[1]} grid failed ({kind}): lower the "
                              "grid resolution")
+    if baking is not None:
+        bake.keep(the_scene.frame_current, arrays)
     state.key, state.message, state.hidden = key, None, False
     state.vertices, state.grid = len(result.positions), result.without_surface()
     state.ms = (time.perf_counter() - start) * 1e3

@@ -51,27 +51,39 @@ def set_topology(mesh, nx, ny, flipped=False):
         mesh.attributes.new(water.LOD_ATTRIBUTE, "FLOAT", "POINT")
 
 
-def write_grid(mesh, result, to_local, foam, caustics):
-    """A GridResult and its per-vertex fields (None: none) into our mesh, positions taken into
-    the object's space by `to_local`. The topology is built when the resolution or the mirroring
-    changed; a failure part-way leaves the mesh empty, not half-written."""
+def grid_arrays(result, to_local, foam, caustics):
+    """What `write_arrays` writes of a GridResult: {name: array}, or None for an empty mesh
+    (a bake keeps each frame's so, bake.py)."""
     if not result.visible:
+        return None
+    positions = result.positions
+    if not np.array_equal(to_local, np.eye(3)):
+        positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
+    arrays = {"grid": np.array([*result.resolution, np.linalg.det(to_local) < 0.0]),
+              "position": positions,
+              water.LOD_ATTRIBUTE: np.minimum(result.lod, np.float32(64.0))}  # finite
+    for name, values in ((water.FOAM_ATTRIBUTE, foam), (water.CAUSTIC_ATTRIBUTE, caustics)):
+        if values is not None:
+            arrays[name] = values
+    return arrays
+
+
+def write_arrays(mesh, arrays):
+    """`grid_arrays` into our mesh (None: emptied). The topology is built when the resolution
+    or the mirroring changed; a failure part-way leaves the mesh empty, not half-written."""
+    if arrays is None:
         empty(mesh)
         return
-    nx, ny = result.resolution
-    flipped = np.linalg.det(to_local) < 0.0
+    nx, ny, flipped = (int(v) for v in arrays["grid"])
     try:
         if (len(mesh.vertices) != nx * ny or len(mesh.polygons) != (nx - 1) * (ny - 1)
-                or (mesh.loops[1].vertex_index != 1) != flipped):
-            set_topology(mesh, nx, ny, flipped)
-        positions = result.positions
-        if not np.array_equal(to_local, np.eye(3)):
-            positions = (positions @ to_local.T.astype(np.float32)).astype(np.float32)
-        mesh.attributes["position"].data.foreach_set("vector", positions.ravel())
-        lod = np.minimum(result.lod, np.float32(64.0))  # finite for the shader
-        mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set("value", lod)
-        write_attribute(mesh, water.FOAM_ATTRIBUTE, foam)
-        write_attribute(mesh, water.CAUSTIC_ATTRIBUTE, caustics)
+                or (mesh.loops[1].vertex_index != 1) != bool(flipped)):
+            set_topology(mesh, nx, ny, bool(flipped))
+        mesh.attributes["position"].data.foreach_set("vector", arrays["position"].ravel())
+        mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set(
+            "value", arrays[water.LOD_ATTRIBUTE])
+        for name in (water.FOAM_ATTRIBUTE, water.CAUSTIC_ATTRIBUTE):
+            write_attribute(mesh, name, arrays.get(name))
         mesh.update()
         mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path
     except BaseException:

@@ -136,6 +136,42 @@ def test_bad_input_leaves_the_ocean_live(moving, bridge, tmp_path, kwargs, setti
     assert not os.listdir(tmp_path)
 
 
+def test_a_cancelled_bake_leaves_the_ocean_live_and_nothing_behind(moving, bridge, tmp_path):
+    """The bake the operator runs frame by frame from the interface (Esc cancels between
+    frames): each step builds a frame's render mesh, kept beside the target; cancelled, the
+    scene is back at its frame with the live sea, and nothing of the bake is left on disk."""
+    scene, obj = moving
+    want = live(scene, obj, bridge, 1)
+    scene.frame_set(2)
+    viewport = positions(obj.data).copy()
+    job = bridge.bake.Bake(bpy.context, obj, str(tmp_path / "sea.usdc"), 1, 3)
+    assert job.step() and job.done == pytest.approx(1 / 3)
+    (frames,) = [n for n in os.listdir(tmp_path) if n.startswith(".projgrid-frames-")]
+    kept = np.load(tmp_path / frames / "1.npz")
+    assert np.allclose(kept["position"], want, rtol=1e-6, atol=1e-5)  # the render's mesh
+    job.cancel()
+    assert bridge.state.RUNTIME.baking is None and not bridge.bake.is_baked(obj)
+    assert not obj.modifiers and not os.listdir(tmp_path)
+    assert scene.frame_current == 2 and np.array_equal(positions(obj.data), viewport)
+    assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
+
+
+def test_the_export_only_writes_the_frames_built(moving, bridge, monkeypatch, tmp_path):
+    """Once the frames are built, Blender's exporter (which blocks the interface and cannot be
+    cancelled) rebuilds none of them: it writes the kept meshes."""
+    scene, obj = moving
+    built, build = [], bridge.frame.build_grid
+    monkeypatch.setattr(bridge.frame, "build_grid", lambda *a, **k: (
+        built.append(bridge.state.RUNTIME.baking.replaying if bridge.state.RUNTIME.baking
+                     else None), build(*a, **k))[1])
+    job = bridge.bake.Bake(bpy.context, obj, str(tmp_path / "sea.usdc"), 1, 2)
+    while job.step():
+        pass
+    assert built == [False, False]
+    job.finish()
+    assert True not in built and bridge.bake.is_baked(obj)
+
+
 RENDER_FRESH = textwrap.dedent("""
     import sys
     import bpy

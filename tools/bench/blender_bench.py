@@ -197,7 +197,8 @@ def bake_cost(frames=24, repeats=7):
     """The bake (bridge/bake.py) of Add Ocean's sea at its render grid (257×513) over `frames`
     frames: wall and CPU seconds a frame and megabytes a frame (the USD cache and the slope
     layer's EXR files); then the per-frame time (frame_set, interleaved) of the baked ocean,
-    which reads its cache, against the same ocean live at that grid."""
+    which reads its cache, against the same ocean live at that grid; and the share of the
+    bake's time spent building the frames (the steps Esc can cancel), the rest the export."""
     def made(name):
         scene = projected_scene(257)
         scene.name = f"bake {name}"
@@ -210,11 +211,15 @@ def bake_cost(frames=24, repeats=7):
     folder = tempfile.mkdtemp(prefix="projgrid-bake-")
     baked, obj = made("baked")
     live, _ = made("live")
+    bake = extension().projgrid_addon.bridge.bake
     with bpy.context.temp_override(scene=baked, view_layer=baked.view_layers[0],
                                    active_object=obj, object=obj):
         wall, cpu = time.perf_counter(), time.process_time()
-        assert bpy.ops.projgrid.bake(filepath=os.path.join(folder, "sea.usdc"),
-                                     frame_start=1, frame_end=frames) == {"FINISHED"}
+        job = bake.Bake(bpy.context, obj, os.path.join(folder, "sea.usdc"), 1, frames)
+        while job.step():
+            pass
+        building = time.perf_counter() - wall
+        job.finish()  # as the operator: the steps, then the export
         wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     size = sum(os.path.getsize(os.path.join(root, f))
                for root, _, files in os.walk(folder) for f in files)
@@ -224,11 +229,12 @@ def bake_cost(frames=24, repeats=7):
 
     times = interleaved({"baked (reads its cache)": lambda: play(baked),
                          "live (builds the grid)": lambda: play(live)}, repeats)
-    extension().projgrid_addon.bridge.bake.free(obj)
+    bake.free(obj)
     for scene in (baked, live):
         bpy.data.scenes.remove(scene)
     shutil.rmtree(folder, ignore_errors=True)
     return {"frames": frames, "seconds_per_frame": wall / frames, "cpu_per_frame": cpu / frames,
+            "building_share": building / wall,
             "mb_per_frame": size / 2**20 / frames,
             "play": [{"variant": k, **v.ms()} for k, v in times.items()]}
 

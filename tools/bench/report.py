@@ -565,11 +565,14 @@ def _bake(report):
         return
     md += ["### The bake", "",
            f"Baking Add Ocean's sea at its render grid (257×513) over {bake['frames']} frames "
-           f"(`bpy.ops.projgrid.bake`: Blender's USD exporter stepping through the frames as a "
-           f"render does, our handler building each, the material's inputs and the slope "
-           f"layer's images recorded): {bake['seconds_per_frame']:.2f} s a frame "
-           f"({bake['cpu_per_frame']:.2f} s CPU), {bake['mb_per_frame']:.1f} MB a frame "
-           f"on disk (the cache without normals, which Blender computes alike, and three "
+           f"(`bpy.ops.projgrid.bake`: each frame built as a render builds it, its mesh kept, "
+           f"the material's inputs and the slope layer's images recorded, then Blender's USD "
+           f"exporter writing the kept meshes): {bake['seconds_per_frame']:.2f} s a frame "
+           f"({bake['cpu_per_frame']:.2f} s CPU), of which "
+           f"{bake.get('building_share', float('nan')):.0%} building the frames (the steps Esc "
+           f"cancels from the interface), the rest the export; "
+           f"{bake['mb_per_frame']:.1f} MB a frame on disk (the cache without normals, "
+           f"which Blender computes alike, and three "
            f"128² EXR slope images). Playing it, per frame (frame_set, interleaved):", "",
            _table(bake["play"], [("variant", "variant", ""), ("ms", "ms", ".1f"),
                                  ("p10 ms", "p10_ms", ".1f"), ("CPU ms", "cpu_ms", ".1f")]),
