@@ -7,6 +7,7 @@ import sys
 import tempfile
 import textwrap
 import time
+from types import SimpleNamespace
 
 import bpy
 import numpy as np
@@ -170,6 +171,53 @@ def test_the_export_only_writes_the_frames_built(moving, bridge, monkeypatch, tm
     assert built == [False, False]
     job.finish()
     assert True not in built and bridge.bake.is_baked(obj)
+
+
+class Interactive:
+    """The bake operator as the interface runs it (no window here: its modal method driven
+    with timer and key events, the window manager's timer and status bar recorded)."""
+
+    def __init__(self, extension, job):
+        op = extension.operators.bake.PROJGRID_OT_bake
+        for name in ("modal", "_status", "_end", "_failed", "_finish"):
+            setattr(self, name, getattr(op, name).__get__(self))
+        self.frame_start, self.frame_end = job.recording.first, job.recording.last
+        self._job, self._timer, self._writing = job, object(), False
+        self.reports, self.status, self.timers = [], [], [self._timer]
+        self.context = SimpleNamespace(
+            window_manager=SimpleNamespace(event_timer_remove=self.timers.remove),
+            workspace=SimpleNamespace(status_text_set=self.status.append))
+
+    def report(self, kind, text):
+        self.reports.append((*kind, text))
+
+    def send(self, kind, value="NOTHING"):
+        return self.modal(self.context, SimpleNamespace(type=kind, value=value))
+
+
+def test_the_interface_bakes_frame_by_frame_and_esc_cancels(moving, bridge, extension,
+                                                            tmp_path):
+    """From the interface a timer builds one frame per event with the status bar saying which,
+    other events wait, Esc cancels between frames (the ocean live, nothing on disk), and after
+    the last frame the export writes the file."""
+    scene, obj = moving
+    path = str(tmp_path / "sea.usdc")
+    op = Interactive(extension, bridge.bake.Bake(bpy.context, obj, path, 1, 3))
+    assert op.send("TIMER") == {"RUNNING_MODAL"}
+    assert op.status[-1] == "Baking 'Ocean': frame 2 of 1-3 (33%), Esc to cancel"
+    assert op.send("LEFTMOUSE", "PRESS") == {"RUNNING_MODAL"} and op._job.next == 2
+    assert op.send("ESC", "PRESS") == {"CANCELLED"}
+    assert op.reports == [("INFO", "Bake cancelled at frame 2: the ocean is live and nothing "
+                                   "was written")]
+    assert op.status[-1] is None and not op.timers  # the status bar and the timer given back
+    assert not bridge.bake.is_baked(obj) and not os.listdir(tmp_path)
+    op = Interactive(extension, bridge.bake.Bake(bpy.context, obj, path, 1, 2))
+    assert op.send("TIMER") == op.send("TIMER") == {"RUNNING_MODAL"}
+    assert op.status[-1].startswith("Baking 'Ocean': writing the USD file") and op._writing
+    assert op.send("TIMER") == {"FINISHED"} and bridge.bake.is_baked(obj)
+    assert op.reports[0][0] == "INFO"
+    assert op.reports[0][1].startswith(f"Baked 'Ocean', frames 1-2, into {path} (")
+    assert op.status[-1] is None and not op.timers
 
 
 RENDER_FRESH = textwrap.dedent("""
