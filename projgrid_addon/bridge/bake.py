@@ -40,6 +40,8 @@ SCRATCH = "Projected Grid Bake Scratch"
 COMPANION_PROPS = (("object", "location"), ("object", "scale"), ("object", "hide_render"),
                    ("object", "hide_viewport"), ("data", "clip_start"), ("data", "clip_end"),
                    ("data", "parallax_distance"))
+FOLLOW = {"hide_render": "projgrid_bake_hide_render",  # the recorded visibility (_key_companion)
+          "hide_viewport": "projgrid_bake_hide_viewport"}
 
 
 @dataclass
@@ -428,7 +430,7 @@ def _play(obj, path, relative, recording):
     if probe:  # out of our probe's capture on every frame if on any (the ocean is the user's
         obj.hide_probe_sphere = True in probe  # object: not keyed; its switch warns below)
     for companion in _companions(obj):
-        _key_companion(companion, recording.companions)
+        _key_companion(companion, obj, recording.companions)
         old = companion.modifiers.get(MODIFIER)
         if old is not None:
             companion.modifiers.remove(old)
@@ -505,23 +507,51 @@ def _companions(obj):
     return [c for c in out if c is not None and scene.owns(c) and scene.local(c)]
 
 
-def _key_companion(companion, recorded):
+def _key_companion(companion, ocean, recorded):
     """Keyframes (constant) on our companion for what it was given differently across frames;
-    the animation data a bake gives a companion is all it has (free clears it)."""
+    the animation data a bake gives a companion is all it has (free clears it). Its visibility
+    is recorded in a property of ours (`FOLLOW`) and a driver hides it where that or the ocean
+    says so (a driver of type MAX needs no script), so it is hidden with an ocean hidden after
+    the bake."""
     for (name, path), frames in recorded.items():
         if name != companion.name:
             continue
         owner, prop = path.split(".")
         target = companion.data if owner == "data" else companion
+        if prop in FOLLOW:  # recorded in our property, which the driver reads
+            _follow(target, ocean, prop)
+            prop = f'["{FOLLOW[prop]}"]'
+            frames = {f: int(v) for f, v in frames.items()}
         if len(set(frames.values())) < 2:  # the same throughout: as the frames had it
-            setattr(target, prop, next(iter(frames.values())))
+            _set(target, prop, next(iter(frames.values())))
             continue
         for frame, value in sorted(frames.items()):
-            setattr(target, prop, value)
+            _set(target, prop, value)
             target.keyframe_insert(prop, frame=frame)
         for curve in _bag_curves(target):
             for point in curve.keyframe_points:
                 point.interpolation = "CONSTANT"
+
+
+def _set(target, path, value):
+    """Set a property or (path '["name"]') a custom property of `target`."""
+    if path.startswith('["'):
+        target[path[2:-2]] = value
+    else:
+        setattr(target, path, value)
+
+
+def _follow(companion, ocean, prop):
+    """A driver: the companion's `prop` (hide_render or hide_viewport) is on where the bake
+    recorded it on or the ocean's own is."""
+    driver = companion.driver_add(prop).driver
+    driver.type = "MAX"
+    for name, (owner, path) in {"ocean": (ocean, prop),
+                                "baked": (companion, f'["{FOLLOW[prop]}"]')}.items():
+        var = driver.variables.new()
+        var.name, var.type = name, "SINGLE_PROP"
+        var.targets[0].id_type = "OBJECT"
+        var.targets[0].id, var.targets[0].data_path = owner, path
 
 
 def _animated(tree):
@@ -591,11 +621,15 @@ def free(obj):
         if own is not None:
             companion.modifiers.remove(own)
         for target in (companion, companion.data):
-            if target is not None and target != obj.data and _bag_curves(target):
-                action = target.animation_data.action
+            if target is None or target == obj.data or target.animation_data is None:
+                continue
+            action = target.animation_data.action if _bag_curves(target) else None
+            if action is not None or len(target.animation_data.drivers):
                 target.animation_data_clear()
-                if action.users == 0:
-                    bpy.data.actions.remove(action)
+            if action is not None and action.users == 0:
+                bpy.data.actions.remove(action)
+            for key in FOLLOW.values():
+                target.pop(key, None)
     mat = water.material_of(obj.data) if not _is_copy(obj) else None  # the original's
     if mat is not None:
         _unkey(mat.node_tree)

@@ -346,6 +346,9 @@ COMPANIONS_FRESH = textwrap.dedent("""
         seen[str(frame)] = np.array([*body.location, float(body.hide_render),
                                      len(mesh.vertices),
                                      nodes["Caustic U Offset"].inputs[1].default_value])
+    bpy.data.objects["Ocean"].hide_render = True  # hidden after the bake: its companions too
+    scene.frame_set(1)
+    seen["hidden"] = np.array([body.hide_render, caster.hide_render])
     tile = nodes["Caustic Tile"]
     seen["tile"] = np.array([tile.image.source == "SEQUENCE", not nodes["Godrays"].mute,
                              tile.image_user.frame_start, tile.image_user.frame_duration])
@@ -357,7 +360,7 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
     """With the water body and the shadow caster in use, a fresh process without the extension
     finds the body where the live frames put it, shown, and the caster drawing the cache; the
     godrays' caustic tile, written each frame, is an image sequence of the frames' tiles, and
-    the body material's inputs are the frames'."""
+    the body material's inputs are the frames'. The ocean hidden after the bake hides them."""
     scene, obj = moving
     obj.projgrid.underwater = obj.projgrid.godrays = "ON"
     body = obj.projgrid.water_body
@@ -391,6 +394,7 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
         saved.pixels.foreach_get(pixels)
         assert np.allclose(pixels, tiles[f], rtol=2e-3, atol=1e-3)  # (half floats)
     assert list(seen["tile"]) == [True, True, 1, 2]
+    assert list(seen["hidden"]) == [True, True]
     assert bridge.bake.free(obj)  # (the operator's live update would mend the tile anyway)
     assert body.animation_data is None and not obj.projgrid.shadow_caster.modifiers
     tree = body.data.materials[0].node_tree
