@@ -671,11 +671,13 @@ def layer_images():
 def own_material(mesh):
     """Give our mesh a local copy of its water material of ours if another mesh uses it too (a
     duplicated ocean, or a file from when oceans shared one) or if it is a library's, so its
-    inputs are its own to write."""
+    inputs are its own to write. Returns the copy, or None."""
     mat = mesh.materials[0] if len(mesh.materials) else None
     if mat is not None and mat.get(TAG) and (
             mat.library is not None or mat.users > 1 + int(mat.use_fake_user)):
         mesh.materials[0] = adopt_material(mat)
+        return mesh.materials[0]
+    return None
 
 
 def adopt_material(mat):

@@ -609,6 +609,19 @@ def _unkey(tree):
     tree.pop(KEYED, None)
 
 
+def drop_bake(mat):
+    """A copy of a baked ocean's material, made for a live ocean: the bake's keys removed (from
+    an action of its own, the original's keeps them) and the slope layer live again."""
+    tree = mat.node_tree
+    if tree is None or KEYED not in tree:
+        return
+    data = tree.animation_data
+    if data is not None and data.action is not None and data.action.users > 1:
+        data.action = data.action.copy()
+    _unkey(tree)
+    water.play_layer_sequences(mat, {}, 0, 0)
+
+
 def free(obj):
     """Back to live: our cache modifier, keyframes, layer sequences and cache file removed (the
     files stay on disk). Returns whether there was a bake."""

@@ -332,8 +332,13 @@ def remove_orphan_companions():
 
 
 def own_material(surface):
-    """The surface's water material is its own (water.own_material)."""
-    water.own_material(surface.data)
+    """The surface's water material is its own (water.own_material), without the keys and
+    image sequences of a bake the material it was copied from plays (a duplicate's)."""
+    copy = water.own_material(surface.data)
+    if copy is not None:
+        from . import bake  # (which imports this module)
+
+        bake.drop_bake(copy)
 
 
 def empty_for_save(obj):

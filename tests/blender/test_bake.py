@@ -430,7 +430,8 @@ def test_no_calibration_runs_beside_the_export(moving, bridge, extension, monkey
 
 def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, tmp_path):
     """Shift+D copies the bake's modifier and the companions' pointers: Back to Live on the copy
-    frees the copy alone, and the copy is refused a bake of its own until then."""
+    frees the copy alone, and the copy is refused a bake of its own until then; the material
+    the live copy then takes is without the bake's keys."""
     scene, obj = moving
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
@@ -443,3 +444,8 @@ def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, 
     assert bridge.bake.free(copy) and not bridge.bake.is_baked(copy)
     assert bridge.bake.is_baked(obj) and obj.projgrid.shadow_caster.modifiers
     assert list(obj.data.materials[0].node_tree[bridge.bake.KEYED]) == keyed
+    scene.frame_set(2)  # the live copy takes a material of its own: without the bake's keys
+    mine, theirs = copy.data.materials[0].node_tree, obj.data.materials[0].node_tree
+    assert mine != theirs and bridge.bake.KEYED not in mine
+    assert not {c.data_path for c in bridge.bake._bag_curves(mine)} & set(keyed)
+    assert set(keyed) <= {c.data_path for c in bridge.bake._bag_curves(theirs)}
