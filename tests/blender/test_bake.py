@@ -1,6 +1,7 @@
 """The bake (issue 16): the ocean's frames written into a USD cache that it plays, so a file
 renders where no script runs."""
 
+import errno
 import os
 import subprocess
 import sys
@@ -327,6 +328,20 @@ def test_a_failed_export_leaves_the_ocean_live_and_nothing_behind(moving, bridge
     assert not [n for n in os.listdir(tmp_path) if n != "sea.partial.usdc"]
     assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
     assert bpy.data.images.get(bridge.bake.SCRATCH) is None
+
+
+def test_a_full_disk_leaves_the_ocean_live_and_nothing_behind(moving, bridge, monkeypatch,
+                                                              tmp_path):
+    scene, obj = moving
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(bridge.bake.np, "savez", full)
+    with pytest.raises(RuntimeError, match="Bake not made.*keeping frame 1 failed: No space"):
+        bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
+    assert not bridge.bake.is_baked(obj) and not obj.modifiers and not os.listdir(tmp_path)
+    assert bridge.state.RUNTIME.baking is None and scene.frame_current == 1
 
 
 COMPANIONS_FRESH = textwrap.dedent("""
