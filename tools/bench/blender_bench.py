@@ -328,7 +328,7 @@ def _contrast(img, block=4):
     return float((means - means.mean(axis=1, keepdims=True)).std())
 
 
-def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
+def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64, supersample=8):
     """How much the far field (the horizon to 10° below it) changes from frame to frame as the
     camera moves over a still sea, with the filtering (shading.Filtering) and without it (every
     wave drawn as normals, a mirror's roughness and Fresnel), at equal samples: the mean
@@ -337,8 +337,12 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
     contrast (below that band, across each row, of 4-pixel squares). The first frame is also
     rendered without the filtering at `converged` samples ("converged"): what the pixels
     average to when every wave is drawn, so contrast that is aliasing is not counted as the
-    waves'. Each shot's first frame, without and with the filtering side by side, is written
-    to `out_dir` as bench_horizon_<n>.png."""
+    waves'. That mirror lacks the roughness of the waves shorter than a pixel (Blender's bump
+    takes its slopes across a pixel), so the filtered first frame is also rendered with
+    `supersample` times the pixels each way (one sample each) and averaged down
+    ("supersampled"): the same sea with waves down to that fraction of a pixel drawn as
+    normals, what the filtering should keep. Each shot's first frame, without and with the
+    filtering side by side, is written to `out_dir` as bench_horizon_<n>.png."""
     import dataclasses
 
     from tools.demo import default_shot
@@ -346,9 +350,9 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
     shading = importlib.import_module(f"{MODULE}.projgrid_addon.shading")
     filtering = shading.filtering
 
-    def unfiltered(*args):
+    def unfiltered(*args):  # the same sea (its ripples carry Cox and Munk's slopes), all drawn
         return dataclasses.replace(filtering(*args), pixel_log=-50.0, floor=0.0, ripple=0.0,
-                                   ripple_gain=1.0, density=0.0, ceiling=0.0)
+                                   density=0.0, ceiling=0.0)
     weights = np.array([0.2126, 0.7152, 0.0722])
     tmp = tempfile.mkdtemp(prefix="projgrid-flicker-")
     rows = []
@@ -356,16 +360,20 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
         for n, (shot, height, pitch, yaw) in enumerate(FLICKER_SHOTS):
             top, bottom = _rows_below_horizon(pitch, size, 10.0)
             firsts = {}
-            for variant in ("unfiltered", "filtered", "converged"):
-                shading.filtering = filtering if variant == "filtered" else unfiltered
+            for variant in ("unfiltered", "filtered", "converged", "supersampled"):
+                filtered = variant in ("filtered", "supersampled")
+                shading.filtering = filtering if filtered else unfiltered
                 bpy.ops.wm.read_homefile(use_empty=True)
                 scene = bpy.context.scene
-                cam = default_shot(scene, size=size, height=height, pitch=pitch,
-                                   samples=converged if variant == "converged" else samples)
+                scale = supersample if variant == "supersampled" else 1
+                cam = default_shot(scene, size=(size[0] * scale, size[1] * scale),
+                                   height=height, pitch=pitch,
+                                   samples={"converged": converged,
+                                            "supersampled": 1}.get(variant, samples))
                 cam.rotation_euler.z = math.radians(yaw)
                 heading = np.array([-math.sin(math.radians(yaw)), math.cos(math.radians(yaw))])
                 images = []
-                for k in range(1 if variant == "converged" else frames):
+                for k in range(frames if variant in ("unfiltered", "filtered") else 1):
                     cam.location.x, cam.location.y = FLICKER_STEP * k * heading
                     scene.frame_set(24)  # the sea still: what changes is the camera's doing
                     scene.render.filepath = os.path.join(tmp, f"{variant}-{k}.png")
@@ -374,7 +382,9 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
                     firsts.setdefault(variant, img)
                     linear = np.where(img <= 0.04045, img / 12.92,
                                       ((img + 0.055) / 1.055) ** 2.4)
-                    images.append(linear @ weights)
+                    luminance = linear @ weights
+                    images.append(luminance.reshape(size[1], scale, size[0], scale).mean(
+                        axis=(1, 3)))  # a pixel of the shot: the mean of its light
                 far = [np.abs(b[top:bottom] - a[top:bottom]).mean()
                        for a, b in zip(images[:-1], images[1:], strict=True)]
                 # The second difference: a steady motion's change cancels, a flicker's not.
@@ -383,7 +393,7 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64):
                 near = [_contrast(i[bottom:]) for i in images]
                 row = {"shot": shot, "variant": variant, "near_contrast": float(np.mean(near)),
                        "far_luminance": float(np.mean([i[top:bottom].mean() for i in images]))}
-                if variant != "converged":
+                if variant in ("unfiltered", "filtered"):
                     row.update(flicker=float(np.mean(far)), flicker_2=float(np.mean(bent)),
                                picture=f"bench_horizon_{n}.png")
                 rows.append(row)
