@@ -1,7 +1,11 @@
 """The sky world and sun lamp Add Ocean puts into a scene that has none (never replacing one).
 
 The sky is a gradient on the view direction's height, the same in every Blender version, so
-reference renders compare across 4.5 and 5.x; the water reflects it (§3.4.3).
+reference renders compare across 4.5 and 5.x, and a glow around the sun: the light the haze
+scatters forward, by the Henyey-Greenstein phase function (1 - g^2) / (1 + g^2 - 2 g cos)^1.5
+of the angle to the sun, which brightens the sky toward a low sun as in photographs. The glow
+follows the scene's sun lamp (`aim_glow`, from the frame handler) and goes out without one.
+The water reflects it all (§3.4.3).
 """
 
 import math
@@ -15,6 +19,9 @@ SUN = "Projected Grid Sun"
 # (position on the ramp from z = -0.1 to z = 1, linear colour)
 GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
             (1.0, (0.08, 0.20, 0.55)))
+GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun (0: no sun)
+GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)
+GLOW_COLOUR = (0.03, 0.0276, 0.024)  # linear, times the phase function: warm, as sunlight
 
 
 def world():
@@ -31,7 +38,15 @@ def world():
     for element, (pos, colour) in zip(elements, GRADIENT, strict=True):
         element.position = pos
         element.color = (*colour, 1.0)
-    background = g.node("ShaderNodeBackground", {"Color": ramp.outputs["Color"], "Strength": 1.0})
+    toward = g.node("ShaderNodeCombineXYZ")
+    toward.name = toward.label = GLOW
+    cos = g.vector("DOT_PRODUCT", direction, toward.outputs[0])
+    phase = g.math("MULTIPLY", g.math("POWER", g.math(
+        "MULTIPLY_ADD", cos, -2.0 * GLOW_G, 1.0 + GLOW_G**2), -1.5), 1.0 - GLOW_G**2)
+    glow = g.vector("SCALE", GLOW_COLOUR, Scale=g.math(
+        "MULTIPLY", phase, g.vector("LENGTH", toward.outputs[0])))  # none without a sun
+    sky = g.vector("ADD", ramp.outputs["Color"], glow)
+    background = g.node("ShaderNodeBackground", {"Color": sky, "Strength": 1.0})
     output = g.node("ShaderNodeOutputWorld")
     g.set(output.inputs["Surface"], background.outputs[0])
     return w
@@ -48,3 +63,16 @@ def sun(collection, elevation=12.0, azimuth=0.0, strength=3.0):
     obj.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(180.0 + azimuth))
     collection.objects.link(obj)
     return obj
+
+
+def aim_glow(world, toward):
+    """Point our world's glow at the sun: `toward` the unit vector to it, None without a sun.
+    Another world, or a library's, is left alone."""
+    node = (world.node_tree.nodes.get(GLOW) if world is not None and world.get(TAG)
+            and world.library is None and world.node_tree is not None else None)
+    if node is None:
+        return
+    values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
+    for socket, value in zip(node.inputs, values, strict=False):
+        if abs(socket.default_value - value) > 1e-6:
+            socket.default_value = value

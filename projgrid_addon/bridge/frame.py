@@ -7,7 +7,7 @@ import time
 import bpy
 import numpy as np
 
-from ...shaders import water
+from ...shaders import sky, water
 from ...shaders.nodes import assign
 from .. import Camera, build_grid, effects, memory, shading
 from . import bake, companions, mesh, objects, scene, shot
@@ -30,6 +30,11 @@ def update_scene(the_scene, depsgraph, render, frame_change):
     apps = scene.appearances(the_scene)
     if not render and not RUNTIME.rendering:
         companions.remove_stale_stand_ins(the_scene, apps)
+    if apps:
+        sun = objects.sun_lamp(the_scene, depsgraph, render)
+        toward = None if sun is None else np.array(sun.matrix_world, dtype=np.float64)[:3, 2]
+        sky.aim_glow(the_scene.world, None if toward is None else
+                     toward / max(float(np.linalg.norm(toward)), 1e-12))
     for app in apps:
         message = update_appearance(app, the_scene, depsgraph, render=render,
                                     frame_change=frame_change)

@@ -1,5 +1,6 @@
 """The extension in Blender: registration, Add Ocean, settings, bad input, live preview, panel."""
 
+import math
 from importlib import import_module
 from types import SimpleNamespace
 
@@ -73,6 +74,29 @@ def test_add_ocean_keeps_the_users_world_and_sun():
     assert scene.world == world and len(bpy.data.worlds) == 1
     assert [o.name for o in scene.objects if o.type == "LIGHT"] == ["My Sun"]
     assert len(cube.data.vertices) == 0 and "Cube" in scene.objects
+
+
+def test_the_sky_glows_toward_the_sun_lamp(extension):
+    """The sky Add Ocean makes glows around the scene's sun lamp, following it as it turns, and
+    goes out when no sun lamp renders."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    add_ocean()
+    node = scene.world.node_tree.nodes[extension.shaders.sky.GLOW]
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+
+    def toward():
+        return np.array([s.default_value for s in node.inputs])
+
+    assert np.allclose(toward(), np.array(sun.matrix_world)[:3, 2], atol=1e-6)
+    assert toward()[2] == pytest.approx(math.sin(math.radians(12.0)), abs=1e-5)  # 12 deg up
+    sun.rotation_euler.z += math.radians(90.0)
+    scene.frame_set(2)
+    assert np.allclose(toward(), np.array(sun.matrix_world)[:3, 2], atol=1e-6)
+    assert abs(toward()[0]) > 0.9  # turned a quarter
+    sun.hide_render = True
+    scene.frame_set(3)
+    assert np.allclose(toward(), 0.0, atol=1e-6)
 
 
 def test_settings_are_refused_outside_their_range():
