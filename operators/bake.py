@@ -53,6 +53,7 @@ class PROJGRID_OT_bake(bpy.types.Operator):
                 return self._finish(context)
         except (ValueError, RuntimeError) as err:
             return self._failed(err)
+        self.interactive = False  # a redo (F9, Repeat Last) runs at once
         self._writing = False
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.001, window=context.window)
@@ -61,41 +62,46 @@ class PROJGRID_OT_bake(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
-        if event.type == "ESC" and event.value == "PRESS":
-            self._job.cancel()
-            self._end(context)
+        if event.type == "ESC" and event.value == "PRESS" and not self._writing:
+            self.cancel(context)
             self.report({"INFO"}, f"Bake cancelled at frame {self._job.next}: the ocean is "
-                        "live and nothing was written")
+                        "live and no file was written")
             return {"CANCELLED"}
         if event.type != "TIMER":
             return {"RUNNING_MODAL"}  # the interface waits for the bake, as for a render
-        if self._writing:
-            self._end(context)
-            try:
-                return self._finish(context)
-            except (ValueError, RuntimeError) as err:
-                return self._failed(err)
         try:
+            if self._writing:
+                self._end(context)
+                return self._finish(context)
             more = self._job.step()
-        except (ValueError, RuntimeError) as err:
+        except Exception as err:  # noqa: BLE001 (the job has cleaned up; the user is told)
             self._end(context)
             return self._failed(err)
         if more:
             self._status(context, f"frame {self._job.next}")
         else:  # shown before the export blocks the interface
             self._writing = True
-            self._status(context, "writing the USD file")
+            self._status(context, "writing the USD file", cancel=False)
         return {"RUNNING_MODAL"}
 
-    def _status(self, context, what):
+    def cancel(self, context):
+        """Esc, or Blender quitting or loading a file mid-bake: the ocean left live."""
+        try:
+            self._job.cancel()
+        finally:
+            self._end(context)
+
+    def _status(self, context, what, cancel=True):
         job = self._job
         context.workspace.status_text_set(
             f"Baking {job.obj.name!r}: {what} of {self.frame_start}-{self.frame_end} "
-            f"({job.done:.0%}), Esc to cancel")
+            f"({job.done:.0%})" + (", Esc to cancel" if cancel else ""))
 
     def _end(self, context):
-        context.window_manager.event_timer_remove(self._timer)
-        context.workspace.status_text_set(None)
+        if self._timer is not None:
+            context.window_manager.event_timer_remove(self._timer)
+            self._timer = None
+            context.workspace.status_text_set(None)
 
     def _failed(self, err):
         self.report({"ERROR"}, f"Bake not made, the ocean is live: {err}")

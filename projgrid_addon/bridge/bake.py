@@ -4,18 +4,18 @@ where no script runs (a farm that blocks Python, the extension not installed).
 
 First each frame is built as a render builds it (`Bake.step`, one frame at a time, so the
 operator can run it from the interface and Esc cancel it between frames): the frame handler
-builds the render grid for the scene camera, keeps the mesh's arrays in a folder beside the
-target (`keep`) and records what our material is given (`progress`): the inputs that change
-are keyed afterwards, the slope layer's images saved as numbered EXR files; the water body's
-material and its godrays' caustic tile alike. Then Blender's own USD exporter steps through
-the frames as a render does, and the frame handler writes it each kept mesh (`kept`): the
-exporter writes them with the attributes the material reads (the projector UV map under its own
-name, foam, detail); not their normals, which Blender computes alike from the positions (2.5
-MB a frame at 257x513 instead of 8.5). The exporter samples a mesh per frame only for objects
-that change with time, so the ocean carries a modifier of ours whose output depends on the
-scene time (and moves nothing) while it writes. Everything is written beside its target and
-renamed onto it only when whole, and the ocean is switched only then: a failed or cancelled
-bake leaves it live.
+builds the render grid for the scene camera (from the scene as the viewport evaluates it),
+keeps the mesh's arrays in a folder beside the target (`keep`) and records what our material is
+given (`progress`): the inputs that change are keyed afterwards, the slope layer's images saved
+as numbered EXR files; the water body's material and its godrays' caustic tile alike. Then
+Blender's own USD exporter steps through the frames as a render does, and the frame handler
+writes it each kept mesh (`kept`): the exporter writes them with the attributes the material
+reads (the projector UV map under its own name, foam, detail); not their normals, which Blender
+computes alike from the positions (2.5 MB a frame at 257x513 instead of 8.5). The exporter
+samples a mesh per frame only for objects that change with time, so the ocean carries a
+modifier of ours whose output depends on the scene time (and moves nothing) while it writes.
+Everything is written beside its target and renamed onto it only when whole, and the ocean is
+switched only then: a failed or cancelled bake leaves it live.
 """
 
 import os
@@ -94,6 +94,9 @@ def check(the_scene, view_layer, obj, filepath, frame_start, frame_end):
     if _is_copy(obj):
         raise ValueError(f"object: {obj.name!r} is a duplicate still sharing another ocean's "
                          "companions and material; Back to Live on it first")
+    if any(app.needs_stand_in for app in scene.appearances(the_scene, only=obj)):
+        raise ValueError(f"object: {obj.name!r} shows more than once or inside a collection "
+                         "instance; bake it where it shows once")
     if not obj.visible_get(view_layer=view_layer):
         raise ValueError(f"object: {obj.name!r} is hidden; show it to bake it")
     if frame_start > frame_end:
@@ -156,12 +159,16 @@ class Bake:
         self.recording = Recording(
             frame_start, frame_end, obj.name, tempfile.mkdtemp(dir=folder),
             _animated(mat.node_tree) if mat is not None else set(),
-            body_animated=_animated(body.node_tree) if body is not None else set(),
-            frames=tempfile.mkdtemp(dir=folder, prefix=".projgrid-frames-"))
+            body_animated=_animated(body.node_tree) if body is not None else set())
         self.next = frame_start
         RUNTIME.baking = self.recording
-        effects.finish_ahead()
-        context.window_manager.progress_begin(frame_start, frame_end)
+        try:
+            self.recording.frames = tempfile.mkdtemp(dir=folder, prefix=".projgrid-frames-")
+            effects.finish_ahead()
+            context.window_manager.progress_begin(frame_start, frame_end)
+        except BaseException:
+            self._close()
+            raise
 
     @property
     def done(self):
@@ -176,6 +183,9 @@ class Bake:
             self.scene.frame_set(self.next)
             if self.recording.error:
                 raise RuntimeError(self.recording.error)
+            if not os.path.exists(_kept_path(self.recording, self.next)):
+                why = RUNTIME.state(self.obj).message or "the ocean was not rebuilt"
+                raise RuntimeError(f"frame {self.next} was not built: {why}")
         except BaseException:
             self._close()
             raise
@@ -195,10 +205,11 @@ class Bake:
         view_layer = self.view_layer
         selected = [o for o in view_layer.objects if o.select_get()]
         active = view_layer.objects.active
-        timer = obj.modifiers.new(TIMER, "NODES")
-        timer.node_group = _time_group()
+        timer = None
         recording.replaying = True
         try:
+            timer = obj.modifiers.new(TIMER, "NODES")
+            timer.node_group = _time_group()
             the_scene.frame_start, the_scene.frame_end = recording.first, recording.last
             for o in selected:
                 o.select_set(False)
@@ -223,7 +234,8 @@ class Bake:
         except OSError as err:
             raise RuntimeError(f"writing {self.path!r} failed: {err.strerror}") from None
         finally:
-            obj.modifiers.remove(timer)
+            if timer is not None:
+                obj.modifiers.remove(timer)
             the_scene.frame_start, the_scene.frame_end = frame_range
             for o in view_layer.objects:
                 o.select_set(o in selected)
@@ -245,9 +257,14 @@ class Bake:
         self.context.window_manager.progress_end()
         if recording.slopes != kept:  # the frames' images of a bake not made
             shutil.rmtree(recording.slopes, ignore_errors=True)
-        shutil.rmtree(recording.frames, ignore_errors=True)
+        if recording.frames:
+            shutil.rmtree(recording.frames, ignore_errors=True)
         leftover = os.path.basename(os.path.splitext(path)[0]) + ".partial."  # ours and USD's
-        for name in os.listdir(folder_of(path)):
+        try:
+            names = os.listdir(folder_of(path))
+        except OSError:
+            names = []  # the folder is gone: nothing of ours is left in it
+        for name in names:
             full = os.path.join(folder_of(path), name)
             if name.startswith(leftover) and os.path.isfile(full):
                 try:
@@ -275,18 +292,27 @@ def keep(frame, arrays):
     if recording.replaying or not recording.first <= frame <= recording.last:
         return
     try:
-        np.savez(os.path.join(recording.frames, f"{frame}.npz"), **(arrays or {}))
+        np.savez(_kept_path(recording, frame), **(arrays or {}))
     except OSError as err:
         recording.error = f"keeping frame {frame} failed: {err.strerror}"
 
 
 def kept(frame):
-    """The mesh arrays `keep` kept of `frame` (None: an empty mesh, or a frame not built)."""
-    try:
-        with np.load(os.path.join(RUNTIME.baking.frames, f"{frame}.npz")) as data:
-            return {name: data[name] for name in data.files} or None
-    except OSError:
+    """The mesh arrays `keep` kept of `frame` ({}: an empty mesh), or None for a frame outside
+    the bake's; a frame of it not kept or not read is the bake's error."""
+    recording = RUNTIME.baking
+    if not recording.first <= frame <= recording.last:
         return None
+    try:
+        with np.load(_kept_path(recording, frame)) as data:
+            return {name: data[name] for name in data.files}
+    except (OSError, ValueError) as err:
+        recording.error = f"reading frame {frame} back failed: {err}"
+        return None
+
+
+def _kept_path(recording, frame):
+    return os.path.join(recording.frames, f"{frame}.npz")
 
 
 def folder_of(path):
@@ -511,8 +537,9 @@ def _key_companion(companion, ocean, recorded):
     """Keyframes (constant) on our companion for what it was given differently across frames;
     the animation data a bake gives a companion is all it has (free clears it). Its visibility
     is recorded in a property of ours (`FOLLOW`) and a driver hides it where that or the ocean
-    says so (a driver of type MAX needs no script), so it is hidden with an ocean hidden after
-    the bake."""
+    says so (a driver of type MAX needs no script), so it is hidden with an ocean whose render
+    or viewport switch is turned off after the bake (not the view layer's eye, which no driver
+    reads)."""
     for (name, path), frames in recorded.items():
         if name != companion.name:
             continue
@@ -634,15 +661,17 @@ def free(obj):
         if own is not None:
             companion.modifiers.remove(own)
         for target in (companion, companion.data):
-            if target is None or target == obj.data or target.animation_data is None:
+            if target is None or target == obj.data:
+                continue
+            for key in FOLLOW.values():
+                target.pop(key, None)
+            if target.animation_data is None:
                 continue
             action = target.animation_data.action if _bag_curves(target) else None
             if action is not None or len(target.animation_data.drivers):
                 target.animation_data_clear()
             if action is not None and action.users == 0:
                 bpy.data.actions.remove(action)
-            for key in FOLLOW.values():
-                target.pop(key, None)
     mat = water.material_of(obj.data) if not _is_copy(obj) else None  # the original's
     if mat is not None:
         _unkey(mat.node_tree)

@@ -338,7 +338,8 @@ def own_material(surface):
     if copy is not None:
         from . import bake  # (which imports this module)
 
-        bake.drop_bake(copy)
+        if not bake.is_baked(surface):  # a baked one plays the keys
+            bake.drop_bake(copy)
 
 
 def empty_for_save(obj):

@@ -73,7 +73,12 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         return None  # it plays its bake (bake.py): nothing of it is rebuilt
     baking = bake.baking(app)
     if baking is not None and baking.replaying:
-        mesh.write_arrays(ocean.data, bake.kept(the_scene.frame_current))
+        arrays = bake.kept(the_scene.frame_current)
+        try:
+            if arrays is not None:
+                mesh.write_arrays(ocean.data, arrays or None)
+        except (MemoryError, RuntimeError) as err:  # Blender swallows it in a handler
+            baking.error = f"writing frame {the_scene.frame_current} failed: {err}"
         return None
     render = render or baking is not None  # the bake's frames are the render's
     making = not render and not RUNTIME.rendering
@@ -103,6 +108,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     state.generation = generation
     if not shown:
         state.key, state.message, state.warning, state.hidden = None, None, None, True
+        if baking is not None:
+            bake.keep(the_scene.frame_current, None)  # hidden on this frame: empty in the bake
         return None
     settings = settings or ocean.evaluated_get(depsgraph).projgrid
     try:

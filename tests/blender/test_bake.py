@@ -155,7 +155,6 @@ def test_a_cancelled_bake_leaves_the_ocean_live_and_nothing_behind(moving, bridg
     assert bridge.state.RUNTIME.baking is None and not bridge.bake.is_baked(obj)
     assert not obj.modifiers and not os.listdir(tmp_path)
     assert scene.frame_current == 2 and np.array_equal(positions(obj.data), viewport)
-    assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
 
 
 def test_the_export_only_writes_the_frames_built(moving, bridge, monkeypatch, tmp_path):
@@ -180,7 +179,7 @@ class Interactive:
 
     def __init__(self, extension, job):
         op = extension.operators.bake.PROJGRID_OT_bake
-        for name in ("modal", "_status", "_end", "_failed", "_finish"):
+        for name in ("modal", "cancel", "_status", "_end", "_failed", "_finish"):
             setattr(self, name, getattr(op, name).__get__(self))
         self.frame_start, self.frame_end = job.recording.first, job.recording.last
         self._job, self._timer, self._writing = job, object(), False
@@ -208,7 +207,7 @@ def test_the_interface_bakes_frame_by_frame_and_esc_cancels(moving, bridge, exte
     assert op.status[-1] == "Baking 'Ocean': frame 2 of 1-3 (33%), Esc to cancel"
     assert op.send("LEFTMOUSE", "PRESS") == {"RUNNING_MODAL"} and op._job.next == 2
     assert op.send("ESC", "PRESS") == {"CANCELLED"}
-    assert op.reports == [("INFO", "Bake cancelled at frame 2: the ocean is live and nothing "
+    assert op.reports == [("INFO", "Bake cancelled at frame 2: the ocean is live and no file "
                                    "was written")]
     assert op.status[-1] is None and not op.timers  # the status bar and the timer given back
     assert not bridge.bake.is_baked(obj) and not os.listdir(tmp_path)
@@ -338,10 +337,38 @@ def test_a_full_disk_leaves_the_ocean_live_and_nothing_behind(moving, bridge, mo
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(bridge.bake.np, "savez", full)
+    scene.frame_set(2)
     with pytest.raises(RuntimeError, match="Bake not made.*keeping frame 1 failed: No space"):
         bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
     assert not bridge.bake.is_baked(obj) and not obj.modifiers and not os.listdir(tmp_path)
-    assert bridge.state.RUNTIME.baking is None and scene.frame_current == 1
+    assert bridge.state.RUNTIME.baking is None and scene.frame_current == 2
+
+
+def test_a_baked_ocean_keeps_its_keys_through_renders(moving, bridge, tmp_path):
+    """Renders (their start makes each surface's material its own) leave a baked ocean's
+    material playing its keys and its slope layer's sequences."""
+    scene, obj = moving
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=3) == {"FINISHED"}
+    keyed = set(obj.data.materials[0].node_tree[bridge.bake.KEYED])
+    for _ in range(2):
+        bridge.handlers.render_init(scene)
+        bridge.handlers.render_done(scene)
+    tree = obj.data.materials[0].node_tree
+    assert keyed and set(tree[bridge.bake.KEYED]) == keyed
+    assert keyed <= {c.data_path for c in bridge.bake._bag_curves(tree)}
+
+
+def test_an_ocean_drawn_by_stand_ins_is_refused(moving, bridge, tmp_path):
+    scene, obj = moving
+    group = bpy.data.collections.new("Sea")
+    group.objects.link(obj)
+    holder = bpy.data.objects.new("Instancer", None)
+    holder.instance_type, holder.instance_collection = "COLLECTION", group
+    scene.collection.objects.link(holder)
+    with pytest.raises(RuntimeError, match="Bake not made.*object: 'Ocean' shows more than"):
+        bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
+    assert not bridge.bake.is_baked(obj) and not os.listdir(tmp_path)
 
 
 COMPANIONS_FRESH = textwrap.dedent("""
@@ -451,6 +478,7 @@ def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, 
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
     keyed = list(obj.data.materials[0].node_tree[bridge.bake.KEYED])
+    assert keyed  # the moving camera changes inputs from frame to frame
     copy = obj.copy()
     copy.data = obj.data.copy()
     scene.collection.objects.link(copy)

@@ -575,7 +575,8 @@ def _bake(report):
         return
     md += ["### The bake", "",
            f"Baking Add Ocean's sea at its render grid (257×513) over {bake['frames']} frames "
-           f"(`bpy.ops.projgrid.bake`: each frame built as a render builds it, its mesh kept, "
+           f"(bake.Bake, as `bpy.ops.projgrid.bake` runs it: each frame built as a render "
+           f"builds it, its mesh kept, "
            f"the material's inputs and the slope layer's images recorded, then Blender's USD "
            f"exporter writing the kept meshes): {bake['seconds_per_frame']:.2f} s a frame "
            f"({bake['cpu_per_frame']:.2f} s CPU), of which "
