@@ -445,10 +445,13 @@ def _play(obj, path, relative, recording):
         chain.append(parent.name)
         parent = parent.parent
     # The exporter's prim names: USD's valid identifiers, made per character or (older USD)
-    # per byte of a name's UTF-8.
+    # per byte of a name's UTF-8. (Looked up among the file's paths, not by the mesh the
+    # current frame plays, which may rightly be empty: a camera looking at the sky.)
+    obj.evaluated_get(bpy.context.evaluated_depsgraph_get())  # the cache read: its paths
+    held = {p.path for p in cache.object_paths}
     for per_byte in (False, True):
         mod.object_path = "/root/" + "/".join(_prim(n, per_byte) for n in reversed(chain))
-        if len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices):
+        if mod.object_path in held:
             break
     else:
         raise RuntimeError(f"the cache holds no mesh at {mod.object_path}")

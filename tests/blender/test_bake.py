@@ -2,6 +2,7 @@
 renders where no script runs."""
 
 import errno
+import math
 import os
 import subprocess
 import sys
@@ -357,6 +358,25 @@ def test_a_baked_ocean_keeps_its_keys_through_renders(moving, bridge, tmp_path):
     tree = obj.data.materials[0].node_tree
     assert keyed and set(tree[bridge.bake.KEYED]) == keyed
     assert keyed <= {c.data_path for c in bridge.bake._bag_curves(tree)}
+
+
+def test_a_frame_that_sees_no_water_bakes_empty(moving, bridge, tmp_path):
+    """A frame whose camera sees only the sky is baked as an empty mesh (the bake still plays,
+    found by its prim path, not by the mesh of the frame it starts at)."""
+    scene, obj = moving
+    cam = scene.camera
+    cam.rotation_euler.x = math.radians(170.0)  # straight up at frame 1
+    cam.keyframe_insert("rotation_euler", frame=1)
+    cam.rotation_euler.x = math.radians(80.0)
+    cam.keyframe_insert("rotation_euler", frame=2)
+    scene.frame_set(1)
+    assert len(live(scene, obj, bridge, 1)) == 0 and len(live(scene, obj, bridge, 3))
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=3) == {"FINISHED"}
+    for frame, empty in ((1, True), (3, False)):
+        scene.frame_set(frame)
+        played = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        assert (len(played.vertices) == 0) == empty, frame
 
 
 def test_an_ocean_drawn_by_stand_ins_is_refused(moving, bridge, tmp_path):
