@@ -593,12 +593,15 @@ def _animated(tree):
 
 
 def _key(tree, values):
-    """Keyframes (constant between frames) for the sockets whose recorded value changes."""
+    """Keyframes (constant between frames) for the sockets whose recorded value changes; the
+    others set to it (the scene's live viewport frame may have written its own since)."""
     keyed = []
     for path, frames in values.items():
-        if len(set(frames.values())) < 2:
-            continue
         socket = tree.path_resolve(path.rsplit(".", 1)[0])
+        if len(set(frames.values())) < 2:
+            value = next(iter(frames.values()))
+            socket.default_value = value[0] if len(value) == 1 else value
+            continue
         for frame, value in sorted(frames.items()):
             socket.default_value = value[0] if len(value) == 1 else value
             socket.keyframe_insert("default_value", frame=frame)
