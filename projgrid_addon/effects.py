@@ -297,10 +297,12 @@ def _calibration(source, time, coverage, samples, cache=None):
                 for level in levels]
         spreads = np.array([float(cue.std()) for cue in cues])
         placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
-        widths = _ramp_widths(spreads, float(np.interp(placed, levels, spreads)))
+        whole = float(np.interp(placed, levels, spreads))
+        widths = _ramp_widths(spreads, whole)
         thresholds = []
         for cue, spread, width in zip(cues, spreads, widths, strict=True):
-            if spread <= 1e-9 * (1.0 + float(np.abs(cue).max())):  # no wave: no foam
+            # no wave here nor any left out for the ramp to stand for: no foam
+            if max(spread, whole) <= 1e-9 * (1.0 + float(np.abs(cue).max())):
                 thresholds.append(float(cue.max()) + NO_FOAM)
             else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
                 thresholds.append(_covering(cue, coverage, width))

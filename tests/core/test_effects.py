@@ -124,7 +124,8 @@ def test_boxes_in_view():
 
 def test_whitecaps_cover_the_share_at_every_band_limit():
     """The foam a vertex gets is calibrated at its own band limit, so the mean foam over the
-    sea is the coverage whatever detail the geometry holds, and none where it holds no wave."""
+    sea is the coverage whatever detail the geometry holds; where it holds no wave, the
+    share itself (the whitecaps of waves no vertex holds, as the shader shows far away)."""
     hf = HeightField(amplitude=1.0, octaves=6)
     calibration = effects.foam_thresholds(hf, 3.0, 0.02)
     x, y = np.random.default_rng(8).uniform(-5e3, 5e3, (2, 100_000))
@@ -133,9 +134,13 @@ def test_whitecaps_cover_the_share_at_every_band_limit():
         foam = effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods, calibration)
         assert foam.dtype == np.float32 and 0.0 <= foam.min() and foam.max() <= 1.0
         assert foam.mean() == pytest.approx(0.02, rel=0.3), lod
-    lods = np.zeros(x.shape, np.float32)  # no octave in the geometry: no foam there
+    lods = np.zeros(x.shape, np.float32)  # no octave in the geometry
     assert effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods,
-                             calibration).max() == 0.0
+                             calibration) == pytest.approx(np.full(x.shape, 0.02), rel=1e-3)
+    calm = HeightField(amplitude=0.0, octaves=6)  # no wave at all: no foam
+    calm_foam = effects.whitecaps(calm.foam_cue(np.stack([x, y]), 3.0, None), None,
+                                  effects.foam_thresholds(calm, 3.0, 0.02))
+    assert calm_foam.max() == 0.0
     again = effects.foam_thresholds(hf, 3.0, 0.02)
     assert all(np.array_equal(a, b) for a, b in zip(calibration, again, strict=True))
 

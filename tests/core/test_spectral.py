@@ -8,6 +8,7 @@ from projgrid_addon import (
     HeightField,
     band_limit,
     effects,
+    sea_states,
     shading,
     slope_layer,
     spectral_field,
@@ -371,6 +372,27 @@ def test_a_swell_brings_no_foam_to_the_far_sea():
     for level in (-4.0, -5.0, -6.0, -7.0):
         near = np.abs(lod.ravel() - level) <= 0.5
         assert near.sum() > 1000 and want / 3.0 < foam[near].mean() < 3.0 * want, level
+
+
+def test_a_gale_s_far_sea_is_as_white_as_its_whitecaps_cover():
+    """Seen from 4 m up at a gale, the vertices far enough to hold no band of waves at all
+    (beyond some 400 m) still stand for a sea whitecaps cover Monahan's share of: their foam
+    is that share (a threshold for 'no wave' there left it white-free, 1 % of the share)."""
+    preset = sea_states.sea_state(8, np.pi / 2)
+    state = SeaState(wind_speed=preset.wind_speed, wind_direction=np.pi / 2,
+                     fetch=preset.fetch, swell_height=preset.swell_height,
+                     swell_period=preset.swell_period,
+                     swell_direction=sea_states.swell_direction(np.pi / 2))
+    source = SpectralField(state, choppiness=preset.choppiness, seed=0)
+    eye = np.array([0.0, 0.0, 4.0])
+    cam = (look_at(eye, eye + (0.0, 1.0, np.tan(np.radians(-4.0)))),
+           perspective(np.radians(40.0), 16 / 9, 0.1, 1e5))
+    result = build_grid(cam, source, time=5.0, resolution=(129, 257))
+    want = effects.whitecap_coverage(preset.wind_speed)
+    foam = effects.foam_field(source, result, 5.0, preset.wind_speed, True, [], 0.0)
+    bare = result.lod < source.first_level
+    assert bare.sum() > 100
+    assert foam[bare] == pytest.approx(want, rel=0.05)
 
 
 def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
