@@ -45,9 +45,12 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 14  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 15  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
-FOAM_GRAIN = 1.5  # the foam's break-up noise, features per metre along the wind
+# The foam's break-up noise, features per metre along the wind: a breaking crest's patches
+# metres long, so that from a low camera a gale's whitecaps still read as patches a hundred
+# metres out (at 1.5 a metre the grain gave way to the mean share there, a faint tint).
+FOAM_GRAIN = 0.3
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
 # Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
 # z in standard deviations: fitted to Blender's own noise over a period of its time

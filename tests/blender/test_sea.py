@@ -259,8 +259,8 @@ def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
 
 
 def grain_noise(water, samples=700, w=3.7):
-    """The Fac of the foam's grain noise (as the water group sets it) over a square 400 m
-    across, evaluated by Blender's own noise through Geometry Nodes."""
+    """The Fac of the foam's grain noise (as the water group sets it) over a square 600 of its
+    features across, evaluated by Blender's own noise through Geometry Nodes."""
     mesh = bpy.data.meshes.new("grain")
     obj = bpy.data.objects.new("grain", mesh)
     bpy.context.scene.collection.objects.link(obj)
@@ -268,7 +268,7 @@ def grain_noise(water, samples=700, w=3.7):
     tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
     grid = tree.nodes.new("GeometryNodeMeshGrid")
     for axis in ("X", "Y"):
-        grid.inputs[f"Size {axis}"].default_value = 400.0
+        grid.inputs[f"Size {axis}"].default_value = 600.0 / water.FOAM_GRAIN
         grid.inputs[f"Vertices {axis}"].default_value = samples
     noise = tree.nodes.new("ShaderNodeTexNoise")
     noise.noise_dimensions = "4D"
@@ -295,7 +295,8 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
     constants were fitted at), the drawn cover is the share within 10 % from 0.001 to 0.95."""
     water = extension.shaders.water
     shading = extension.projgrid_addon.shading
-    facs = [grain_noise(water, samples=300, w=w) for w in np.linspace(0.05, 0.95, 7)]
+    facs = [grain_noise(water, samples=300, w=w)  # the noise scales W as its position
+            for w in np.linspace(0.075, 1.425, 7) / water.FOAM_GRAIN]
     spread = np.concatenate(facs).std()
     assert spread == pytest.approx(water.FOAM_GRAIN_STD, rel=0.03)
     assert shading.FOAM_EDGE == water.FOAM_EDGE  # the mirror draws the shader's edge
