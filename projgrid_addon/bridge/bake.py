@@ -552,15 +552,28 @@ def _key_companion(companion, ocean, recorded):
             _follow(target, ocean, prop)
             prop = f'["{FOLLOW[prop]}"]'
             frames = {f: int(v) for f, v in frames.items()}
-        if len(set(frames.values())) < 2:  # the same throughout: as the frames had it
-            _set(target, prop, next(iter(frames.values())))
-            continue
-        for frame, value in sorted(frames.items()):
-            _set(target, prop, value)
-            target.keyframe_insert(prop, frame=frame)
-        for curve in _bag_curves(target):
-            for point in curve.keyframe_points:
-                point.interpolation = "CONSTANT"
+        if _key_frames(target, prop, frames):
+            _hold(_bag_curves(target))
+
+
+def _key_frames(target, prop, frames, value=lambda v: v):
+    """`prop` of `target` set to its recorded `value` where the frames ({frame: recorded})
+    agree (the scene's live viewport frame may have written its own since), else keyed on
+    each frame: returns whether it was keyed."""
+    if len(set(frames.values())) < 2:
+        _set(target, prop, value(next(iter(frames.values()))))
+        return False
+    for frame, recorded in sorted(frames.items()):
+        _set(target, prop, value(recorded))
+        target.keyframe_insert(prop, frame=frame)
+    return True
+
+
+def _hold(curves):
+    """Keyframes held constant until the next: a baked frame plays what it recorded."""
+    for curve in curves:
+        for point in curve.keyframe_points:
+            point.interpolation = "CONSTANT"
 
 
 def _set(target, path, value):
@@ -594,22 +607,11 @@ def _animated(tree):
 
 def _key(tree, values):
     """Keyframes (constant between frames) for the sockets whose recorded value changes; the
-    others set to it (the scene's live viewport frame may have written its own since)."""
-    keyed = []
-    for path, frames in values.items():
-        socket = tree.path_resolve(path.rsplit(".", 1)[0])
-        if len(set(frames.values())) < 2:
-            value = next(iter(frames.values()))
-            socket.default_value = value[0] if len(value) == 1 else value
-            continue
-        for frame, value in sorted(frames.items()):
-            socket.default_value = value[0] if len(value) == 1 else value
-            socket.keyframe_insert("default_value", frame=frame)
-        keyed.append(path)
-    for curve in _bag_curves(tree):
-        if curve.data_path in keyed:
-            for point in curve.keyframe_points:
-                point.interpolation = "CONSTANT"
+    others set to it (`_key_frames`)."""
+    keyed = [path for path, frames in values.items()
+             if _key_frames(tree.path_resolve(path.rsplit(".", 1)[0]), "default_value", frames,
+                            lambda v: v[0] if len(v) == 1 else v)]
+    _hold(c for c in _bag_curves(tree) if c.data_path in keyed)
     tree[KEYED] = keyed
 
 
