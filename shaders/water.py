@@ -45,12 +45,16 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 15  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 16  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches
 # metres long, so that from a low camera a gale's whitecaps still read as patches a hundred
 # metres out (at 1.5 a metre the grain gave way to the mean share there, a faint tint).
 FOAM_GRAIN = 0.3
+# How fast the grain churns, in the noise's own time coordinate per unit of Detail Time (the
+# noise multiplies W by its Scale, so W is divided by FOAM_GRAIN): the bubbles' pattern changes
+# as it did with the finer grain, not five times slower under the sliding waves.
+FOAM_CHURN = 1.5
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
 # Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
 # z in standard deviations: fitted to Blender's own noise over a period of its time
@@ -302,9 +306,10 @@ def _build(group):
     streaked = g.node("ShaderNodeCombineXYZ", {
         "X": g.vector("DOT_PRODUCT", geo["Position"], wind),
         "Y": g.vector("DOT_PRODUCT", geo["Position"], across)}).outputs[0]
-    grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": i["Detail Time"],
-                                          "Scale": FOAM_GRAIN, "Detail": FOAM_DETAIL,
-                                          "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D")
+    churn = g.math("MULTIPLY", i["Detail Time"], FOAM_CHURN / FOAM_GRAIN)
+    grain = g.node("ShaderNodeTexNoise", {"Vector": streaked, "W": churn, "Scale": FOAM_GRAIN,
+                                          "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
+                   noise_dimensions="4D")
     # shading.grain_cover, with the noise's own CDF (FOAM_RANK).
     z = g.math("DIVIDE", g.math("SUBTRACT", grain.outputs["Fac"], 0.5), FOAM_GRAIN_STD)
     rank = g.math("DIVIDE", 1.0, g.math("ADD", 1.0, g.math("POWER", E, g.math(

@@ -306,6 +306,22 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
         assert drawn == pytest.approx(share, rel=0.10), share
 
 
+def test_the_grain_churns_at_its_rate_whatever_its_size(sea, extension):
+    """Blender's noise multiplies its time W by its Scale: the water group divides the Detail
+    Time by the grain's scale, so the bubbles' pattern changes FOAM_CHURN of the noise's own
+    time per unit of Detail Time (the coarser grain churned five times slower before)."""
+    water = extension.shaders.water
+    tree = bpy.data.node_groups[water.GROUP]
+    noise = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexNoise"
+                 and n.inputs["Scale"].default_value == pytest.approx(water.FOAM_GRAIN))
+    link = noise.inputs["W"].links[0]
+    rate = link.from_node
+    assert rate.operation == "MULTIPLY"
+    assert rate.inputs[0].links[0].from_socket.name == "Detail Time"
+    per_unit = rate.inputs[1].default_value * noise.inputs["Scale"].default_value
+    assert per_unit == pytest.approx(water.FOAM_CHURN)
+
+
 def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, extension,
                                                                    tmp_path):
     """Each ocean's material samples its own images of the slope layer, holding the core's
