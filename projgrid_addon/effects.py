@@ -301,7 +301,8 @@ def _calibration(source, time, coverage, samples, cache=None):
         widths = _ramp_widths(spreads, whole)
         thresholds = []
         for cue, spread, width in zip(cues, spreads, widths, strict=True):
-            # no wave here nor any left out for the ramp to stand for: no foam
+            # no wave here, nor any whitecap-long (WHITECAP_WAVE) for the ramp to stand for:
+            # no foam (a light air's, whose share is below FOAM_MIN_COVERAGE anyway)
             if max(spread, whole) <= 1e-9 * (1.0 + float(np.abs(cue).max())):
                 thresholds.append(float(cue.max()) + NO_FOAM)
             else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
