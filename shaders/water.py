@@ -47,13 +47,11 @@ SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
 VERSION = 16  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
-# The foam's break-up noise, features per metre along the wind: a breaking crest's patches
-# metres long, so that from a low camera a gale's whitecaps still read as patches a hundred
-# metres out (at 1.5 a metre the grain gave way to the mean share there, a faint tint).
+# The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
+# metres long, so a pixel tens of metres away still shows them, not the mean share.
 FOAM_GRAIN = 0.3
 # How fast the grain churns, in the noise's own time coordinate per unit of Detail Time (the
-# noise multiplies W by its Scale, so W is divided by FOAM_GRAIN): the bubbles' pattern changes
-# as it did with the finer grain, not five times slower under the sliding waves.
+# noise multiplies W by its Scale, so W is divided by FOAM_GRAIN).
 FOAM_CHURN = 1.5
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
 # Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
