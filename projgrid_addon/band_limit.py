@@ -78,6 +78,26 @@ def every_other(n):
     return np.r_[0:n:2, n - 1] if n % 2 == 0 else np.arange(0, n, 2)
 
 
+def every_other_shape(shape):
+    """The shape of the coarse samples (every_other of each axis) of a (rows, columns) grid."""
+    return tuple(n // 2 + 1 for n in shape)
+
+
+def every_other_of(a, out):
+    """a (..., rows, columns) at every_other(rows) x every_other(columns), into `out` (...,
+    every_other_shape): by slices, the inverse of `fill_every_other`."""
+    rows, cols = a.shape[-2:]
+    r2, c2 = (rows + 1) // 2, (cols + 1) // 2
+    out[..., :r2, :c2] = a[..., 0::2, 0::2]
+    if cols % 2 == 0:
+        out[..., :r2, -1] = a[..., 0::2, -1]
+    if rows % 2 == 0:
+        out[..., -1, :c2] = a[..., -1, 0::2]
+        if cols % 2 == 0:
+            out[..., -1, -1] = a[..., -1, -1]
+    return out
+
+
 def fill_every_other(coarse, out):
     """Values at every_other(rows) x every_other(columns) of `out` (rows, columns) spread into
     all of it, each point between two samples their mean (linear interpolation on the grid)."""

@@ -1,18 +1,27 @@
-"""Reusable per-thread scratch arrays for the per-vertex passes.
+"""Reusable per-thread scratch arrays for the per-vertex passes, and the threads they share.
 
 A fresh NumPy temporary of a few hundred kilobytes is mapped from the OS and faulted in page by
 page, and the allocator hands it back when it is freed (docs/benchmarks.md, findings). The
 passes therefore write their temporaries into buffers kept between frames, and run CHUNK
 points at a time, so the buffers stay a few megabytes for any grid.
+
+NumPy's array loops and FFTs release the GIL, so independent passes (a grid's bands of rows,
+the tiles' transforms) run on several cores (`each`). Which passes there are depends on the
+data alone (`row_bands`), never on the cores, so a frame is bit-identical on any machine.
 """
 
 import math
+import os
 import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 # Points per pass of the per-vertex stages, so their buffers keep this size whatever the grid.
 CHUNK = 1 << 16
+# Threads a frame's passes use (the caller's and the pool's): the cores this process may use.
+WORKERS = min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+              else os.cpu_count() or 1)
 
 _local = threading.local()
 
@@ -31,3 +40,43 @@ def scratch(name, shape, dtype):
     if buf is None or buf.size < size:
         buf = buffers[name] = np.empty(max(size, 1), dtype=np.uint8)
     return buf[:size].view(dtype).reshape(shape)
+
+
+_POOL = {"pool": None}
+_POOL_LOCK = threading.Lock()
+
+
+def each(fn, items):
+    """[fn(item) for item in items], the items shared among WORKERS threads (the caller's one
+    of them). Each item's work must be independent of the others'. The first error raised is
+    raised here once every started item has finished."""
+    items = list(items)
+    if len(items) < 2 or WORKERS < 2:
+        return [fn(item) for item in items]
+    with _POOL_LOCK:
+        if _POOL["pool"] is None:
+            _POOL["pool"] = ThreadPoolExecutor(WORKERS - 1, thread_name_prefix="projgrid-pass")
+        pool = _POOL["pool"]
+    results = [None] * len(items)
+    order = iter(range(len(items)))
+    lock = threading.Lock()
+
+    def work():
+        while True:
+            with lock:
+                i = next(order, None)
+            if i is None:
+                return
+            results[i] = fn(items[i])
+
+    helpers = [pool.submit(work) for _ in range(min(WORKERS, len(items)) - 1)]
+    try:
+        work()
+    finally:
+        # A helper not yet started (its thread busy elsewhere, even waiting on this caller)
+        # is cancelled: the caller took its items.
+        errors = [h.exception() for h in helpers if not h.cancel()]
+    for error in errors:
+        if error is not None:
+            raise error
+    return results

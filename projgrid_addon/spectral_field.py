@@ -45,14 +45,15 @@ import numpy as np
 from . import shading, spectrum
 from .band_limit import (
     along_waves,
-    every_other,
+    every_other_of,
+    every_other_shape,
     fill_every_other,
     octave_weights,
     row_jobs,
     row_parts,
 )
 from .projected_grid import grid_derivative
-from .scratch import CHUNK, scratch
+from .scratch import CHUNK, each, scratch
 from .tiles import Lookup, periodic_patches
 from .validation import finite, integer, non_negative
 from .warp import Warp
@@ -397,8 +398,8 @@ class SpectralField:
             for j, (c, (n, acf)) in enumerate(zip(self.cascades, tiles, strict=True)):
                 for shift in shifts:
                     out[start:start + CHUNK] += Lookup.turned(
-                        n, offsets, (0.0, 0.0), n / c.size, c.turn, "acf",
-                        (shift, Warp.turn(j))).sample(acf)
+                        n, np.concatenate([offsets, shift]), (0.0, 0.0), n / c.size, c.turn,
+                        "acf", Warp.turn(j)).sample(acf)
         out = out.reshape(lags.shape[1:]) / len(shifts) if flat.shape[1] else out
         return out / self.spread[0] ** 2 if self.cascades else out
 
@@ -513,15 +514,16 @@ class SpectralField:
         t = finite("time", t)
         if self._prepared is None or self._prepared[0] != t:
             first = GEOMETRY if self.choppiness > 0.0 else (0,)
-            made = [c.fields(t, self.fold, first) for c in self.cascades]
+            made = each(lambda c: c.fields(t, self.fold, first), self.cascades)
             self.textures = [m[0] for m in made]
             self._bound = sum(m[1] for m in made)
             self._side = sum(m[2] for m in made)
             self._prepared = (t, set(first))
         missing = set(fields) - self._prepared[1]
         if missing:
-            for cascade, textures in zip(self.cascades, self.textures, strict=True):
-                textures.update(cascade.fields(t, self.fold, missing)[0])
+            made = each(lambda c: c.fields(t, self.fold, missing)[0], self.cascades)
+            for textures, more in zip(self.textures, made, strict=True):
+                textures.update(more)
             self._prepared[1].update(missing)
         return self
 
@@ -543,7 +545,7 @@ class SpectralField:
         xy = np.asarray(xy, dtype=np.float64)
         shape = xy.shape[1:]
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
-        out = np.zeros((len(fields),) + shape)
+        out = np.empty((len(fields),) + shape)
         xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(fields),) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         on_grid = on_grid and lod2 is not None and len(shape) == 2
@@ -553,11 +555,16 @@ class SpectralField:
         for start in range(0, out2.shape[1], step):
             band = slice(start, start + step)
             origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
-            offsets = scratch("offsets", xy2[:, band].shape, np.float32)
-            np.subtract(xy2[:, band], origin[:, None, None], out=offsets, casting="same_kind")
-            self._sum(origin, offsets, self.warp(origin, offsets),
-                      [None if g is None else g[band] for g in lods], fields, out2[:, band],
-                      on_grid)
+            # The offsets from the origin, then the warp there (Lookup.turned reads both).
+            points = scratch("points", (4,) + xy2[:, band].shape[1:], np.float32)
+            np.subtract(xy2[:, band], origin[:, None, None], out=points[:2],
+                        casting="same_kind")
+            self.warp(origin, points[:2], out=points[2:])
+            sums = scratch("sums", out2[:, band].shape, np.float32)  # summed in single
+            sums.fill(0.0)
+            self._sum(origin, points, [None if g is None else g[band] for g in lods], fields,
+                      sums, on_grid)
+            out2[:, band] = sums
         return out
 
     @staticmethod
@@ -570,11 +577,11 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, origin, offsets, warp, lods, fields, out, on_grid):
+    def _sum(self, origin, points, lods, fields, out, on_grid):
         """Add the bands' `fields` at origin + offsets into `out`, band by band (a band's
         tiles share its level, so its rows and its coarse part; `lods` the band limit for
-        each of self.groups), each tile read where `warp` (the Warp there) turned by its own
-        turn moves the points."""
+        each of self.groups), each tile read where the warp there turned by its own turn
+        moves the points. `points` (4, rows, columns): the offsets, then the warp."""
         mins = {}
         for (level, _, tiles), lod in zip(self.groups, lods, strict=True):
             if not self.cascades[tiles[0]].gives.intersection(fields):
@@ -594,26 +601,24 @@ class SpectralField:
                     weight = octave_weights(lod[rows], level,
                                             scratch("weights", lod[rows].shape, lod.dtype))
                 for j in tiles:
-                    self._add(j, offsets[:, rows], warp[:, rows], origin, fields,
-                              out[:, rows], weight)
+                    self._add(j, points[:, rows], origin, fields, out[:, rows], weight)
             if coarse is not None:
-                at = (every_other(coarse.stop - coarse.start)[:, None] + coarse.start,
-                      every_other(offsets.shape[2]))
-                points, moved = offsets[:, at[0], at[1]], warp[:, at[0], at[1]]
-                sums = scratch("coarse", (len(fields),) + points.shape[1:], np.float32)
+                few = every_other_of(points[:, coarse], scratch(
+                    "few", (4,) + every_other_shape(points[0, coarse].shape), np.float32))
+                sums = scratch("coarse", (len(fields),) + few.shape[1:], np.float32)
                 sums.fill(0.0)
                 for j in tiles:
-                    self._add(j, points, moved, origin, fields, sums, None)
+                    self._add(j, few, origin, fields, sums, None)
                 filled = scratch("filled", out[0, coarse].shape, np.float32)
                 for i in range(len(fields)):
                     out[i, coarse] += fill_every_other(sums[i], filled)
 
-    def _add(self, j, offsets, warp, origin, fields, out, weight):
-        """Add tile j's `fields` at origin + offsets (moved by its turn of `warp`) into
-        `out`, times `weight` if given."""
+    def _add(self, j, points, origin, fields, out, weight):
+        """Add tile j's `fields` at origin + offsets (moved by its turn of the warp; `points`
+        as `_sum`'s) into `out`, times `weight` if given."""
         cascade, textures = self.cascades[j], self.textures[j]
-        where = Lookup.turned(cascade.texels, offsets, origin, cascade.texels / cascade.size,
-                              cascade.turn, shift=(warp, Warp.turn(j)))
+        where = Lookup.turned(cascade.texels, points, origin, cascade.texels / cascade.size,
+                              cascade.turn, shift_turn=Warp.turn(j))
         for i, f in enumerate(fields):
             if f not in textures:  # a field the tile does not hold: 0
                 continue

@@ -62,33 +62,27 @@ class Lookup:
         self._locate(size, s, tag)
 
     @classmethod
-    def turned(cls, size, offsets, origin, scale, turn, tag="", shift=None):
+    def turned(cls, size, points, origin, scale, turn, tag="", shift_turn=None):
         """A Lookup of the points origin + offsets in a texture turned by `turn` (cos, sin) on
-        the plane. `offsets` (2, ...) float32: the texel coordinates are taken in single
-        precision, the origin's reduced by the period in double first, so a texel coordinate
-        is as exact as the offsets are small (the bands are sampled only within some
+        the plane. `points` (2, ...) float32: the offsets; the texel coordinates are taken in
+        single precision, the origin's reduced by the period in double first, so a texel
+        coordinate is as exact as the offsets are small (the bands are sampled only within some
         thousand texels of the camera, where the float32 error is below 1e-3 texel).
-        `shift`: (vectors (2, ...) float32, (cos, sin)): the points are moved by the vectors
-        turned by that turn first (warp.py)."""
+        With `shift_turn` (cos, sin), `points` (4, ...) are the offsets and then vectors by
+        which the points move, turned by that turn first (warp.py): one 2 x 4 product."""
         self = cls.__new__(cls)
         c, sn = turn[0] * scale, turn[1] * scale
-        start = turned_texel(origin, turn, scale, size)
-        s = scratch("s32" + tag, offsets.shape, np.float32)
-        across = scratch("across" + tag, offsets.shape[1:], np.float32)
-        c, sn = np.float32(c), np.float32(sn)
-        np.multiply(offsets[0], c, out=s[0])
-        s[0] += np.multiply(offsets[1], sn, out=across)
-        np.multiply(offsets[1], c, out=s[1])
-        s[1] -= np.multiply(offsets[0], sn, out=across)
-        if shift is not None:
+        rows = [[c, sn], [-sn, c]]
+        if shift_turn is not None:
             # Turned by the shift's turn on the plane, then back by the texture's: one turn.
-            v, (sc, ss) = shift
-            a = np.float32(scale * (sc * turn[0] + ss * turn[1]))
-            b = np.float32(scale * (ss * turn[0] - sc * turn[1]))
-            s[0] += np.multiply(v[0], a, out=across)
-            s[0] -= np.multiply(v[1], b, out=across)
-            s[1] += np.multiply(v[0], b, out=across)
-            s[1] += np.multiply(v[1], a, out=across)
+            sc, ss = shift_turn
+            a = scale * (sc * turn[0] + ss * turn[1])
+            b = scale * (ss * turn[0] - sc * turn[1])
+            rows = [[c, sn, a, -b], [-sn, c, b, a]]
+        s = scratch("s32" + tag, (2,) + points.shape[1:], np.float32)
+        np.matmul(np.array(rows, np.float32), points.reshape(len(points), -1),
+                  out=s.reshape(2, -1))
+        start = turned_texel(origin, turn, scale, size)
         s[0] += np.float32(start[0])
         s[1] += np.float32(start[1])
         self._locate(size, s, tag)

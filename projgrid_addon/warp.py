@@ -43,12 +43,12 @@ class Warp:
         """(cos, sin) of tile j's turn of the warp."""
         return float(np.cos(j * GOLDEN)), float(np.sin(j * GOLDEN))
 
-    def __call__(self, origin, offsets, tag="warp"):
-        """w at origin + offsets (2, ...) float32, as (2, ...) float32 (a scratch array of
-        `tag`): the phase at the origin in double precision, the offsets' in single (they
-        span some kilometres, a few turns of the warp's waves)."""
+    def __call__(self, origin, offsets, tag="warp", out=None):
+        """w at origin + offsets (2, ...) float32, as (2, ...) float32 (into `out`, else a
+        scratch array of `tag`): the phase at the origin in double precision, the offsets' in
+        single (they span some kilometres, a few turns of the warp's waves)."""
         flat = offsets.reshape(2, -1)
-        out = scratch(tag, offsets.shape, np.float32)
+        out = scratch(tag, offsets.shape, np.float32) if out is None else out
         arg = scratch(tag + "arg", (WAVES, flat.shape[1]), np.float32)
         np.matmul(self._q32, flat, out=arg)
         start = (self.q.T @ np.asarray(origin, np.float64) + self.phase) % (2.0 * np.pi)

@@ -8,6 +8,7 @@ from projgrid_addon import (
     HeightField,
     band_limit,
     effects,
+    scratch,
     sea_states,
     shading,
     slope_layer,
@@ -177,15 +178,21 @@ def test_no_tile_shows(u):
     assert SHARE_PER_TILE < TILING
 
 
-def test_a_frame_is_a_pure_function_of_time():
+def test_a_frame_is_a_pure_function_of_time(monkeypatch):
+    """The same frame alone, after others, and made on one thread instead of several
+    (scratch.each shares the tiles' transforms among the cores): bit-identical."""
     state = SeaState(wind_speed=9.0, swell_height=1.0)
     x, y = np.random.default_rng(4).uniform(-2e3, 2e3, (2, 5000))
+    monkeypatch.setattr(scratch, "WORKERS", 3)
     alone = SpectralField(state, choppiness=1.0, seed=11)
     want = alone.sample(np.stack([x, y]), 12.5, fields=(0, 1, 2))
     seq = SpectralField(state, choppiness=1.0, seed=11)
     for t in (1.0, 5.0, 12.0):
         seq.sample(np.stack([x, y]), t, fields=(0, 1, 2))
     assert np.array_equal(seq.sample(np.stack([x, y]), 12.5, fields=(0, 1, 2)), want)
+    monkeypatch.setattr(scratch, "WORKERS", 1)
+    single = SpectralField(state, choppiness=1.0, seed=11)
+    assert np.array_equal(single.sample(np.stack([x, y]), 12.5, fields=(0, 1, 2)), want)
 
 
 def test_a_grid_samples_long_bands_every_other_vertex():
@@ -276,11 +283,14 @@ def test_no_swell_wave_the_geometry_keeps_aliases(heading):
 
 def test_every_other_vertex_interpolates_linearly():
     """A field linear on the grid is restored exactly from every other row and column, for odd
-    and even counts (the last row and column are always sampled)."""
+    and even counts (the last row and column are always sampled); every_other_of takes just
+    those samples."""
     for rows, cols in ((5, 5), (6, 7), (7, 6), (8, 8)):
         y, x = np.mgrid[0:rows, 0:cols].astype(np.float32)
         field = 3.0 * x - 2.0 * y + 1.0
         coarse = field[band_limit.every_other(rows)][:, band_limit.every_other(cols)]
+        few = np.full(band_limit.every_other_shape((rows, cols)), np.nan, np.float32)
+        assert np.array_equal(band_limit.every_other_of(field, few), coarse)
         out = np.full((rows, cols), np.nan, np.float32)
         assert np.array_equal(band_limit.fill_every_other(coarse, out), field)
 

@@ -48,7 +48,7 @@ def main(quick=False, only=None):
             world_sizes=(33, 65, 129) if quick else (33, 65, 129, 257, 513),
             image=(48, 27) if quick else (96, 54))),
         ("effects", lambda: blender_bench.effect_cost(repeats=5 if quick else 15)),
-        ("sea", lambda: blender_bench.sea_cost(repeats=5 if quick else 15)),
+        ("sea", lambda: blender_bench.sea_cost(repeats=5 if quick else 45)),
         ("playback", lambda: blender_bench.playback_cost(seconds=2 if quick else 3)),
         ("bake", lambda: blender_bench.bake_cost(frames=12 if quick else 24,
                                                  repeats=3 if quick else 7)),

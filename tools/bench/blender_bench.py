@@ -114,7 +114,7 @@ def step(scene):
     scene.frame_set(scene.frame_current + 1)
 
 
-def sea_cost(repeats=15):
+def sea_cost(repeats=45):
     """Per-frame time (frame_set) of the sea as artists set it: the spectral sea and the noise
     at Beaufort 5 with their choppiness and whitecaps forced on, on a 257² grid, beside the
     Ocean modifier at resolution 16 (257² vertices) with choppiness 1 and its foam; and the

@@ -1,0 +1,57 @@
+"""The passes' shared threads (scratch.each): results in order, errors raised, no deadlock."""
+
+import threading
+import time
+
+import pytest
+
+from projgrid_addon import scratch
+
+
+@pytest.fixture(autouse=True)
+def workers(monkeypatch):
+    monkeypatch.setattr(scratch, "WORKERS", 3)
+
+
+def test_each_gives_every_result_in_order_using_other_threads():
+    threads = set()
+
+    def square(i):
+        threads.add(threading.get_ident())
+        barrier.wait(timeout=5.0)  # two items at once: they run on two threads
+        return i * i
+
+    barrier = threading.Barrier(2)
+    assert scratch.each(square, [3, 4]) == [9, 16]
+    assert len(threads) == 2
+
+
+def test_each_raises_an_item_s_error_once_no_item_runs():
+    started, finished = [], []
+
+    def item(i):
+        started.append(i)
+        time.sleep(0.01)
+        if i == 2:
+            raise ValueError("item 2")
+        finished.append(i)
+
+    with pytest.raises(ValueError, match="item 2"):
+        scratch.each(item, range(6))
+    assert sorted(finished + [2]) == sorted(started)
+    time.sleep(0.05)
+    assert sorted(finished + [2]) == sorted(started)  # nothing ran on afterwards
+
+
+def test_each_inside_each_does_not_wait_on_itself():
+    """An item that shares its own work (the pool's threads all busy) finishes: what no
+    helper has started, the caller does."""
+    result = {}
+
+    def outer(i):
+        return sum(scratch.each(lambda j: i * j, range(5)))
+
+    thread = threading.Thread(target=lambda: result.update(v=scratch.each(outer, range(4))))
+    thread.start()
+    thread.join(timeout=20.0)
+    assert not thread.is_alive() and result["v"] == [0, 10, 20, 30]
