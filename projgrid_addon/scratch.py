@@ -5,9 +5,10 @@ page, and the allocator hands it back when it is freed (docs/benchmarks.md, find
 passes therefore write their temporaries into buffers kept between frames, and run CHUNK
 points at a time, so the buffers stay a few megabytes for any grid.
 
-NumPy's array loops and FFTs release the GIL, so independent passes (a grid's bands of rows,
-the tiles' transforms) run on several cores (`each`). Which passes there are depends on the
-data alone (`row_bands`), never on the cores, so a frame is bit-identical on any machine.
+NumPy's FFTs release the GIL, so independent passes as long as the spectral sea's tiles'
+transforms run on several cores (`each`; a grid's per-vertex passes, many short NumPy calls,
+measured slower so shared). Which passes there are depends on the data alone, never on the
+cores, so a frame is bit-identical whatever the number of threads.
 """
 
 import math
@@ -48,8 +49,8 @@ _POOL_LOCK = threading.Lock()
 
 def each(fn, items):
     """[fn(item) for item in items], the items shared among WORKERS threads (the caller's one
-    of them). Each item's work must be independent of the others'. The first error raised is
-    raised here once every started item has finished."""
+    of them). Each item's work must be independent of the others'. After an error no item
+    starts; the first error raised is raised here once no item runs."""
     items = list(items)
     if len(items) < 2 or WORKERS < 2:
         return [fn(item) for item in items]
@@ -60,23 +61,28 @@ def each(fn, items):
     results = [None] * len(items)
     order = iter(range(len(items)))
     lock = threading.Lock()
+    errors = []
 
     def work():
         while True:
             with lock:
-                i = next(order, None)
+                i = None if errors else next(order, None)
             if i is None:
                 return
-            results[i] = fn(items[i])
+            try:
+                results[i] = fn(items[i])
+            except BaseException as error:  # noqa: BLE001 - raised by the caller below
+                with lock:
+                    errors.append(error)
+                return
 
     helpers = [pool.submit(work) for _ in range(min(WORKERS, len(items)) - 1)]
-    try:
-        work()
-    finally:
-        # A helper not yet started (its thread busy elsewhere, even waiting on this caller)
-        # is cancelled: the caller took its items.
-        errors = [h.exception() for h in helpers if not h.cancel()]
-    for error in errors:
-        if error is not None:
-            raise error
+    work()
+    for helper in helpers:
+        # One not yet started (its thread busy elsewhere, even waiting on this caller) is
+        # cancelled: the caller took its items.
+        if not helper.cancel():
+            helper.result()
+    if errors:
+        raise errors[0]
     return results

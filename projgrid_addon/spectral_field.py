@@ -392,14 +392,16 @@ class SpectralField:
                                               .astype(np.float32))))
         for start in range(0, flat.shape[1], CHUNK):
             part = flat[:, start:start + CHUNK]
-            offsets = part.astype(np.float32)
+            points = np.empty((4, part.shape[1]), np.float32)  # the lags, then a warp's shift
+            points[:2] = part
             shifts = (self.warp.shifts(part, samples).astype(np.float32) if samples
                       else np.zeros((1,) + part.shape, np.float32))
             for j, (c, (n, acf)) in enumerate(zip(self.cascades, tiles, strict=True)):
                 for shift in shifts:
+                    points[2:] = shift
                     out[start:start + CHUNK] += Lookup.turned(
-                        n, np.concatenate([offsets, shift]), (0.0, 0.0), n / c.size, c.turn,
-                        "acf", Warp.turn(j)).sample(acf)
+                        n, points, (0.0, 0.0), n / c.size, c.turn, "acf",
+                        Warp.turn(j)).sample(acf)
         out = out.reshape(lags.shape[1:]) / len(shifts) if flat.shape[1] else out
         return out / self.spread[0] ** 2 if self.cascades else out
 

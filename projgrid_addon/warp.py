@@ -44,8 +44,8 @@ class Warp:
         return float(np.cos(j * GOLDEN)), float(np.sin(j * GOLDEN))
 
     def __call__(self, origin, offsets, tag="warp", out=None):
-        """w at origin + offsets (2, ...) float32, as (2, ...) float32 (into `out`, else a
-        scratch array of `tag`): the phase at the origin in double precision, the offsets' in
+        """w at origin + offsets (2, ...) float32, as (2, ...) float32 (into `out`, C-contiguous,
+        else a scratch array of `tag`): the phase at the origin in double precision, the offsets' in
         single (they span some kilometres, a few turns of the warp's waves)."""
         flat = offsets.reshape(2, -1)
         out = scratch(tag, offsets.shape, np.float32) if out is None else out
@@ -54,6 +54,8 @@ class Warp:
         start = (self.q.T @ np.asarray(origin, np.float64) + self.phase) % (2.0 * np.pi)
         arg += start.astype(np.float32)[:, None]
         np.sin(arg, out=arg)
+        if not out.flags.c_contiguous:  # its reshape would be a copy, the result lost
+            raise ValueError("Warp: `out` must be C-contiguous")
         np.matmul(self._e32, arg, out=out.reshape(2, -1))
         return out
 
