@@ -40,7 +40,8 @@ def test_each_raises_the_first_error_once_no_item_runs_and_starts_none_after():
         scratch.each(item, range(12))
     at_raise = sorted(started)
     assert sorted(finished + [1]) == at_raise  # none still running
-    assert len(at_raise) <= 4  # items 0 and 1, and at most one more on each thread
+    # those begun with item 1 (one a thread) and at most one more on each other thread
+    assert len(at_raise) <= 2 * scratch.WORKERS - 1 < 12
     time.sleep(0.1)
     assert sorted(started) == at_raise  # and none started afterwards
 
