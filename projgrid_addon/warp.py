@@ -48,14 +48,15 @@ class Warp:
         else a scratch array of `tag`): the phase at the origin in double precision, the offsets' in
         single (they span some kilometres, a few turns of the warp's waves)."""
         flat = offsets.reshape(2, -1)
-        out = scratch(tag, offsets.shape, np.float32) if out is None else out
+        if out is None:
+            out = scratch(tag, offsets.shape, np.float32)
+        elif not out.flags.c_contiguous:  # its reshape would be a copy, the result lost
+            raise ValueError("Warp: `out` must be C-contiguous")
         arg = scratch(tag + "arg", (WAVES, flat.shape[1]), np.float32)
         np.matmul(self._q32, flat, out=arg)
         start = (self.q.T @ np.asarray(origin, np.float64) + self.phase) % (2.0 * np.pi)
         arg += start.astype(np.float32)[:, None]
         np.sin(arg, out=arg)
-        if not out.flags.c_contiguous:  # its reshape would be a copy, the result lost
-            raise ValueError("Warp: `out` must be C-contiguous")
         np.matmul(self._e32, arg, out=out.reshape(2, -1))
         return out
 
