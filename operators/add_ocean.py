@@ -21,7 +21,7 @@ def apply_sea_state(s, force):
         s.wind_speed, s.fetch, s.choppiness = preset.wind_speed, preset.fetch, preset.choppiness
         s.swell_height, s.swell_period = preset.swell_height, preset.swell_period
         s.swell_direction = sea_states.swell_direction(s.wind_direction)
-        s.amplitude, s.wave_scale = preset.amplitude, max(preset.wave_scale, 0.01)
+        s.amplitude, s.wave_scale = preset.amplitude, preset.wave_scale
     return preset
 
 
@@ -50,6 +50,8 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         obj.projgrid.is_ocean = True
         obj.location = scene.cursor.location
         apply_sea_state(obj.projgrid, DEFAULT_FORCE)
+        with settings.batch():
+            obj.projgrid.noise_from_wind = True  # the noise, if chosen, follows the wind too
         # Grid vertices do not correspond across frames: no deformation motion blur.
         if hasattr(obj, "cycles"):
             obj.cycles.use_deform_motion = False

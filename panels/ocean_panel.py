@@ -4,7 +4,7 @@ settings."""
 
 import bpy
 
-from ..projgrid_addon import effects
+from ..projgrid_addon import effects, sea_states
 from ..projgrid_addon.bridge import bake, frame, scene
 from ..projgrid_addon.bridge.state import RUNTIME
 
@@ -114,6 +114,16 @@ class _OceanSubPanel:
         return active_ocean(context).projgrid
 
 
+class VIEW3D_MT_projgrid_sea_state(bpy.types.Menu):
+    """Every force of the Beaufort scale, by name"""
+
+    bl_label = "Sea State"
+
+    def draw(self, context):
+        for force, (name, *_) in sea_states.BEAUFORT.items():
+            self.layout.operator("projgrid.sea_state", text=f"{force}  {name}").beaufort = force
+
+
 class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
     bl_label = "Waves"
 
@@ -121,7 +131,7 @@ class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
         s = self.settings(context)
         layout = self.layout
         row = layout.row(align=True)
-        row.label(text="Sea State")
+        row.menu(VIEW3D_MT_projgrid_sea_state.__name__, text="Sea State")
         for force in (2, 4, 6, 8, 10):
             row.operator("projgrid.sea_state", text=str(force)).beaufort = force
         col = layout.column()
@@ -138,8 +148,12 @@ class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
             col.prop(s, "swell_period", text="Period")
             layout.prop(s, "seed")
         else:
-            for prop in ("amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-                         "noise"):
+            col.prop(s, "noise_from_wind")
+            sub = col.column()
+            sub.active = not s.noise_from_wind
+            sub.prop(s, "amplitude")
+            sub.prop(s, "wave_scale")
+            for prop in ("octaves", "roughness", "speed", "seed", "noise"):
                 col.prop(s, prop)
 
 

@@ -17,6 +17,7 @@ import numpy as np
 from ...shaders.nodes import TAG
 from .. import HeightField, effects
 from ..projected_grid import check_resolution
+from ..sea_states import noise_waves
 from ..spectral_field import SpectralField
 from ..spectrum import SeaState
 from .state import RUNTIME
@@ -27,7 +28,7 @@ GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCL
                   "GPENCIL", "GREASEPENCIL"}
 # Settings whose value is part of a build's key (every input of the rebuild).
 SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
-            "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
+            "noise_from_wind", "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
             "projector_elevation", "noise", "wind_speed", "height_source", "spectrum",
             "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
             "swell_period", *effects.EFFECTS)
@@ -60,7 +61,8 @@ def look(settings):
 
 def height_field(settings):
     """The core height source for (possibly evaluated) settings: the spectral sea
-    (SpectralField, kept while its settings stay) or the noise (HeightField)."""
+    (SpectralField, kept while its settings stay) or the noise (HeightField), whose height and
+    wavelength are the wind's sea's with From Wind on."""
     if settings.height_source == "SPECTRUM":
         state = SeaState(wind_speed=settings.wind_speed,
                          wind_direction=settings.wind_direction, fetch=settings.fetch,
@@ -68,8 +70,11 @@ def height_field(settings):
                          swell_direction=settings.swell_direction,
                          swell_period=settings.swell_period)
         return _spectral(state, settings.choppiness, settings.seed)
-    return _noise(settings.amplitude, settings.wave_scale, settings.octaves, settings.roughness,
-                  settings.speed, settings.seed, settings.noise.lower(),
+    amplitude, wave_scale = settings.amplitude, settings.wave_scale
+    if settings.noise_from_wind:
+        amplitude, wave_scale = noise_waves(settings.wind_speed, settings.fetch)
+    return _noise(amplitude, wave_scale, settings.octaves, settings.roughness, settings.speed,
+                  settings.seed, settings.noise.lower(),
                   settings.wind_direction, settings.choppiness)
 
 

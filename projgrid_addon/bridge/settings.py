@@ -108,6 +108,11 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                               257, 2, 8193, 2049)
     render_resolution_y: _int("Render Y", "Grid vertices up the screen in renders",
                               513, 2, 8193, 4097)
+    noise_from_wind: BoolProperty(
+        name="From Wind", default=False, update=_settings_changed, override=OVERRIDABLE,
+        description="The noise's height and wavelength follow the wind and fetch: the "
+        "spectrum's significant height and peak wavelength for them (Amplitude and Wave Scale "
+        "are then unused)")
     amplitude: _float("Amplitude", "Height of the largest waves (the bound is the sum over "
                       "octaves)", 0.5, 0.0, 1e4, 10.0, "LENGTH")
     wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, 0.01, 1e5, 500.0,
@@ -126,8 +131,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
         items=(("FAST", "Fast", "Per-octave noise textures sampled bilinearly (thesis App. B)"),
                ("EXACT", "Exact", "Gradient noise evaluated at every vertex (the reference)")))
     wind_speed: _float("Wind Speed", "Wind at 10 m above the sea: raises the waves of the "
-                       "spectrum and sets the foam's whitecap coverage (Monahan and Mac "
-                       "Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+                       "spectrum (and of the noise From Wind) and sets the foam's whitecap "
+                       "coverage (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
     water_colour: FloatVectorProperty(
         name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,
         default=water.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,

@@ -37,11 +37,13 @@ def spectral_sea():
 
 def add_ocean(source=None):
     """Add Ocean (the spectral sea at its default force), or with `source` "PERLIN" the noise
-    (for the tests of the noise's own settings: amplitude, octaves, the exact path)."""
+    with its height and wavelength set by hand, not From Wind (for the tests of the noise's own
+    settings: amplitude, octaves, the exact path)."""
     assert bpy.ops.projgrid.add_ocean() == {"FINISHED"}
     obj = bpy.context.active_object
     if source is not None:
         obj.projgrid.height_source = source
+        obj.projgrid.noise_from_wind = source != "PERLIN"
     return obj
 
 

@@ -31,12 +31,14 @@ def our_handlers():
 def test_registration_is_symmetric(extension):
     assert our_handlers() and hasattr(bpy.types.Object, "projgrid")
     assert hasattr(bpy.types, "PROJGRID_OT_add_ocean")
+    assert hasattr(bpy.types, "VIEW3D_MT_projgrid_sea_state")
     bpy.ops.preferences.addon_disable(module=MODULE)
     try:
         assert our_handlers() == []
         assert not hasattr(bpy.types.Object, "projgrid")
         for name in ("PROJGRID_OT_add_ocean", "PROJGRID_OT_live_preview",
-                     "VIEW3D_PT_projgrid_ocean", "ProjectedGridSettings"):
+                     "VIEW3D_PT_projgrid_ocean", "VIEW3D_MT_projgrid_sea_state",
+                     "ProjectedGridSettings"):
             assert not hasattr(bpy.types, name), name
     finally:
         bpy.ops.preferences.addon_enable(module=MODULE)

@@ -39,6 +39,36 @@ def test_the_wind_raises_the_spectral_sea(sea):
     assert heights[0] < heights[1] < heights[2]
 
 
+def test_the_wind_raises_the_noise_from_wind(bridge, extension):
+    """With From Wind (Add Ocean's), the noise's height and wavelength are the wind's sea's
+    (sea_states.noise_waves), the wind keyframed too; set by hand, the wind leaves them."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    s = obj.projgrid
+    s.height_source = "PERLIN"
+    assert s.noise_from_wind
+    for frame, wind in ((1, 5.0), (10, 10.0)):
+        s.wind_speed = wind
+        s.keyframe_insert("wind_speed", frame=frame)
+    spread, used = [], []
+    for frame in (1, 10):
+        scene.frame_set(frame)
+        spread.append(float(positions(obj.data)[:, 2].std()))
+        evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid
+        hf = bridge.scene.height_field(evaluated)
+        used.append((hf.amplitude, hf.wave_scale))
+    noise_waves = extension.projgrid_addon.sea_states.noise_waves
+    assert used == [pytest.approx(noise_waves(5.0)), pytest.approx(noise_waves(10.0))]
+    assert spread[1] > 2.0 * spread[0]  # Hs grows as U^2
+    s.noise_from_wind = False
+    assert bridge.scene.height_field(s).amplitude == pytest.approx(s.amplitude)
+    z = positions(obj.data)[:, 2].copy()
+    obj.animation_data_clear()
+    s.wind_speed = 20.0
+    assert np.array_equal(positions(obj.data)[:, 2], z)
+
+
 def test_choppy_and_travelling(sea, bridge):
     s = sea.projgrid
     s.wind_direction = 0.0

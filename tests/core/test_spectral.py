@@ -53,9 +53,15 @@ def test_the_spread_is_the_synthesised_sea_s(seed=5):
 
 @pytest.mark.parametrize("u", [5.0, 8.0, 12.0, 16.0, 20.0])
 def test_fully_developed_sea_is_pierson_moskowitz(u):
-    """Hs of a fully developed sea is about 0.21 U^2 / g (within 10 %)."""
-    assert spectrum.significant_height(SeaState(wind_speed=u)) == pytest.approx(
-        0.21 * u * u / GRAVITY, rel=0.10)
+    """Hs = 4 sigma of a fully developed sea as synthesised, and of the noise whose height
+    follows the wind (sea_states.noise_waves, From Wind), is 0.21 U^2 / g within 10 %."""
+    pm = 0.21 * u * u / GRAVITY
+    x, y = np.random.default_rng(7).uniform(0.0, 12_000.0, (2, 200_000))
+    sea = SpectralField(SeaState(wind_speed=u), seed=11)
+    assert 4.0 * sea.heights(x, y, 3.0).std() == pytest.approx(pm, rel=0.10)
+    amplitude, wave_scale = sea_states.noise_waves(u)
+    noise = HeightField(amplitude=amplitude, wave_scale=wave_scale, seed=2)
+    assert 4.0 * noise.heights(x, y, 3.0).std() == pytest.approx(pm, rel=0.10)
 
 
 def test_a_fetch_limited_sea_grows_toward_the_fully_developed_one():
