@@ -110,7 +110,8 @@ def test_shot(name, tmp_path):
     done_updating()
 
 
-SEA_STATES = (2, 5, 8)  # Beaufort: light breeze, fresh breeze, gale
+SEA_STATES = range(11)  # Beaufort: every preset, calm to storm
+GROWING = (2, 5, 8)  # light breeze, fresh breeze, gale: their look grows with the force
 
 
 def test_sea_states(tmp_path):
@@ -120,7 +121,7 @@ def test_sea_states(tmp_path):
     scene = bpy.context.scene
     cam = default_shot(scene, size=(240, 135), samples=4, height=20.0, pitch=-12.0)
     cam.rotation_euler.z = math.radians(180.0)
-    contrast, white = [], []
+    contrast, white = {}, {}
     for force in SEA_STATES:
         bpy.ops.projgrid.sea_state(beaufort=force)
         scene.frame_set(24)
@@ -131,8 +132,9 @@ def test_sea_states(tmp_path):
         water = luminance(read(path))[60:]  # below the horizon (row 39 at 12° down)
         # across each row: the slopes turning the reflection, not the Fresnel's rise with
         # the distance (which a rough sea flattens)
-        contrast.append(float((water - water.mean(axis=1, keepdims=True)).std()))
-        white.append(float((water > 0.6).mean()))  # brighter than any sky the water mirrors
+        contrast[force] = float((water - water.mean(axis=1, keepdims=True)).std())
+        white[force] = float((water > 0.6).mean())  # brighter than any sky the water mirrors
+    contrast, white = [contrast[f] for f in GROWING], [white[f] for f in GROWING]
     assert contrast[0] < contrast[1] < contrast[2], contrast
     assert white[0] < 0.0005 and white[0] < white[1] < white[2] and white[2] > 0.003, white
     done_updating()

@@ -72,7 +72,7 @@ class Pose:
                                   **kw)
 
 
-@lru_cache(maxsize=8)
+@lru_cache(maxsize=16)
 def _spectral(wind_speed, wind_direction, choppiness):
     return SpectralField(SeaState(wind_speed=wind_speed, wind_direction=wind_direction),
                          choppiness=choppiness, seed=7)

@@ -55,6 +55,23 @@ def test_spread_is_the_field_s():
     assert hf.spread == pytest.approx((h.std(), np.sqrt((d * d).sum(0).mean())), rel=0.10)
 
 
+def test_choppy_noise_moves_points_toward_the_crests():
+    """The noise's choppy displacement (Tessendorf's form, per octave) sharpens the crests as the
+    spectrum's does: the surface compresses (Jacobian < 1) where it is high and stretches where
+    it is low, as much one as the other."""
+    hf = HeightField(amplitude=1.5, wave_scale=40.0, octaves=4, roughness=0.5, method="exact",
+                     choppiness=1.0)
+    step = 0.5  # a tenth of the shortest octave
+    k = np.arange(512) * step
+    xy = np.stack(np.meshgrid(k, k + 100.0))
+    h, d = hf.displacement(xy, 2.0)
+    dx_dy, dx_dx = np.gradient(d[0], step)
+    dy_dy, dy_dx = np.gradient(d[1], step)
+    jacobian = (1.0 + dx_dx) * (1.0 + dy_dy) - dx_dy * dy_dx
+    assert np.corrcoef(h.ravel(), jacobian.ravel())[0, 1] < -0.3
+    assert jacobian.mean() == pytest.approx(1.0, abs=0.05)
+
+
 @pytest.mark.parametrize("method", ["exact", "fast"])
 def test_heights_within_bound(method):
     hf = HeightField(amplitude=2.0, octaves=6, roughness=0.9, method=method)
