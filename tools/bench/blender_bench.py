@@ -50,13 +50,14 @@ def _ocean(scene):
 
 def projected_scene(n, noise="FAST", source="SPECTRUM"):
     """Add Ocean's sea (the spectrum, Beaufort 4) on an n² grid, or with `source` 'PERLIN' the
-    noise by the `noise` path."""
+    noise by the `noise` path (Beaufort 4's height and wavelength, kept whatever the wind)."""
     scene = _scene(f"projected {n} {source} {noise}")
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
         bpy.ops.projgrid.add_ocean()
     obj = _ocean(scene)
     obj.projgrid.resolution_x = obj.projgrid.resolution_y = n
     obj.projgrid.height_source = source
+    obj.projgrid.noise_from_wind = False
     obj.projgrid.noise = noise
     return scene
 
@@ -340,8 +341,9 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64, supersa
     waves'. That mirror lacks the roughness of the waves shorter than a pixel (Blender's bump
     takes its slopes across a pixel), so the filtered first frame is also rendered with
     `supersample` times the pixels each way (one sample each) and averaged down
-    ("supersampled"): the same sea with waves down to that fraction of a pixel drawn as
-    normals, what the filtering should keep. Each shot's first frame, without and with the
+    ("supersampled", every frame): the same sea with waves down to that fraction of a pixel
+    drawn as normals, what the filtering should keep, and how much that picture itself changes
+    from frame to frame. Each shot's first frame, without and with the
     filtering side by side, is written to `out_dir` as bench_horizon_<n>.png."""
     import dataclasses
 
@@ -373,7 +375,7 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64, supersa
                 cam.rotation_euler.z = math.radians(yaw)
                 heading = np.array([-math.sin(math.radians(yaw)), math.cos(math.radians(yaw))])
                 images = []
-                for k in range(frames if variant in ("unfiltered", "filtered") else 1):
+                for k in range(1 if variant == "converged" else frames):
                     cam.location.x, cam.location.y = FLICKER_STEP * k * heading
                     scene.frame_set(24)  # the sea still: what changes is the camera's doing
                     scene.render.filepath = os.path.join(tmp, f"{variant}-{k}.png")
@@ -393,9 +395,10 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64, supersa
                 near = [_contrast(i[bottom:]) for i in images]
                 row = {"shot": shot, "variant": variant, "near_contrast": float(np.mean(near)),
                        "far_luminance": float(np.mean([i[top:bottom].mean() for i in images]))}
+                if variant != "converged":
+                    row.update(flicker=float(np.mean(far)), flicker_2=float(np.mean(bent)))
                 if variant in ("unfiltered", "filtered"):
-                    row.update(flicker=float(np.mean(far)), flicker_2=float(np.mean(bent)),
-                               picture=f"bench_horizon_{n}.png")
+                    row.update(picture=f"bench_horizon_{n}.png")
                 rows.append(row)
             pair = np.concatenate([firsts["unfiltered"], np.ones((size[1], 4, 3)),
                                    firsts["filtered"]], axis=1)
