@@ -150,6 +150,10 @@ class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
         else:
             col.prop(s, "noise_from_wind")
             sub = col.column()
+            sub.active = s.noise_from_wind
+            sub.prop(s, "spectrum")
+            sub.prop(s, "fetch")
+            sub = col.column()
             sub.active = not s.noise_from_wind
             sub.prop(s, "amplitude")
             sub.prop(s, "wave_scale")

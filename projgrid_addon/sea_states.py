@@ -66,15 +66,18 @@ WAVE_SCALE_MIN = 0.01
 
 
 @lru_cache(maxsize=64)
-def noise_waves(wind_speed, fetch=0.0):
-    """(amplitude, wave_scale) of the noise source for the wind's sea (m/s at 10 m) over
-    `fetch` (m; 0 fully developed): the same sea as the spectrum's (Horvath 2015), its
-    significant height 4 sigma of the noise and its peak wavelength 2 pi g / omega_p^2 (deep
-    water) the first octave's."""
-    state = spectrum.SeaState(wind_speed=float(wind_speed), fetch=float(fetch))
-    peak = 2.0 * np.pi * spectrum.GRAVITY / spectrum.peak_frequency(state) ** 2
-    return (float(spectrum.significant_height(state) / (4.0 * _noise_sigma())),
-            float(max(peak, WAVE_SCALE_MIN)))
+def noise_waves(wind_speed, fetch=0.0, spectrum_name="JONSWAP", octaves=8, roughness=0.5):
+    """(amplitude, wave_scale) of the noise source of `octaves` octaves and `roughness` for
+    the wind's sea (m/s at 10 m) over `fetch` (m; 0 fully developed) by `spectrum_name`'s
+    spectrum: the same sea as the spectrum's (Horvath 2015), its significant height 4 standard
+    deviations of the noise (HeightField.spread) and its peak wavelength the first octave's."""
+    state = spectrum.SeaState(wind_speed=float(wind_speed), fetch=float(fetch),
+                              spectrum=spectrum_name)
+    sigma = HeightField(amplitude=1.0, octaves=octaves, roughness=roughness,
+                        method="exact").spread[0]
+    height = spectrum.significant_height(state)
+    return (float(height / (4.0 * sigma)) if sigma > 0.0 else 0.0,
+            float(max(spectrum.peak_wavelength(state), WAVE_SCALE_MIN)))
 
 
 def swell_direction(wind_direction):
@@ -91,19 +94,3 @@ def _fetch_for(wind, height):
         else:
             hi = mid
     return float(np.sqrt(lo * hi))
-
-
-_SIGMA = []
-
-
-def _noise_sigma():
-    """The standard deviation of the noise height field with amplitude 1 (its default octaves
-    and roughness), measured once over a wide stretch of it and many times (a slice at a whole
-    time, on the noise's lattice, varies 9 % less)."""
-    if not _SIGMA:
-        hf = HeightField(amplitude=1.0, wave_scale=40.0)
-        rng = np.random.default_rng(0)
-        _SIGMA.append(float(np.sqrt(np.mean([
-            hf.heights(*rng.uniform(-4e3, 4e3, (2, 20_000)), t).var()
-            for t in rng.uniform(0.0, 200.0, 40)]))))
-    return _SIGMA[0]

@@ -239,4 +239,9 @@ def peak_period(state):
     return 2.0 * np.pi / peak_frequency(state)
 
 
+def peak_wavelength(state):
+    """The deep-water wavelength 2 pi g / omega_p^2 (m) of the wind's sea's peak."""
+    return 2.0 * np.pi * GRAVITY / peak_frequency(state) ** 2
+
+
 _SHAPE = _shape_integral()

@@ -29,7 +29,7 @@ def ocean_modifier(scene, preset, material, frame_time, resolution=12, repeats=8
     from projgrid_addon import spectrum
 
     state = spectrum.SeaState(wind_speed=preset.wind_speed, fetch=preset.fetch)
-    peak = 2.0 * math.pi * spectrum.GRAVITY / spectrum.peak_frequency(state) ** 2
+    peak = spectrum.peak_wavelength(state)
     obj = bpy.data.objects.new("Ocean Modifier", bpy.data.meshes.new("Ocean Modifier"))
     scene.collection.objects.link(obj)
     mod = obj.modifiers.new("Ocean", "OCEAN")

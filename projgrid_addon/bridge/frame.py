@@ -246,7 +246,7 @@ def flat_warning(hf, result, settings):
     if settings.projector_elevation > hf.bound:
         return text + (f"Projector Elevation ({settings.projector_elevation:.3g} m) lifts the "
                        "projector far above the waves: lower it")
-    if settings.height_source == "SPECTRUM":
+    if settings.height_source == "SPECTRUM" or settings.noise_from_wind:
         return text + (f"the waves are {hf.bound:.3g} m high, so the projector sits that high: "
                        "raise the grid resolution")
     return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {hf.bound:.3g} m high, "

@@ -72,7 +72,9 @@ def height_field(settings):
         return _spectral(state, settings.choppiness, settings.seed)
     amplitude, wave_scale = settings.amplitude, settings.wave_scale
     if settings.noise_from_wind:
-        amplitude, wave_scale = noise_waves(settings.wind_speed, settings.fetch)
+        amplitude, wave_scale = noise_waves(settings.wind_speed, settings.fetch,
+                                            settings.spectrum, settings.octaves,
+                                            settings.roughness)
     return _noise(amplitude, wave_scale, settings.octaves, settings.roughness, settings.speed,
                   settings.seed, settings.noise.lower(),
                   settings.wind_direction, settings.choppiness)

@@ -16,6 +16,7 @@ from bpy.props import (
 
 from ...shaders import water
 from .. import effects
+from ..sea_states import WAVE_SCALE_MIN
 from . import frame
 from .state import RUNTIME
 
@@ -110,13 +111,13 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                               513, 2, 8193, 4097)
     noise_from_wind: BoolProperty(
         name="From Wind", default=False, update=_settings_changed, override=OVERRIDABLE,
-        description="The noise's height and wavelength follow the wind and fetch: the "
-        "spectrum's significant height and peak wavelength for them (Amplitude and Wave Scale "
-        "are then unused)")
+        description="The noise's height and wavelength follow the wind, fetch and spectrum: "
+        "the wind sea's significant height and peak wavelength (Amplitude and Wave Scale are "
+        "then unused)")
     amplitude: _float("Amplitude", "Height of the largest waves (the bound is the sum over "
                       "octaves)", 0.5, 0.0, 1e4, 10.0, "LENGTH")
-    wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, 0.01, 1e5, 500.0,
-                       "LENGTH")
+    wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, WAVE_SCALE_MIN,
+                       1e5, 500.0, "LENGTH")
     octaves: _int("Octaves", "Noise octaves, each half the wavelength of the one before",
                   8, 0, 24)
     roughness: _float("Roughness", "Amplitude ratio between octaves (alpha)", 0.5, 0.0, 2.0,

@@ -638,3 +638,17 @@ def test_settings_at_their_maxima_warn_of_a_flat_sea(state, setting, value, advi
     warning = state(obj).warning
     assert warning.startswith("no wave is in the geometry") and advice in warning
     assert any(advice in text for _, text in stats_lines(obj, scene))
+
+
+def test_a_flat_noise_from_wind_is_told_to_raise_the_grid(bridge, extension):
+    """From Wind, Amplitude and Wave Scale are unused: the flat-sea warning does not name
+    them (a grid whose finest level holds no octave)."""
+    from types import SimpleNamespace
+
+    hf = extension.projgrid_addon.HeightField(amplitude=1.0, wave_scale=40.0)
+    result = SimpleNamespace(visible=True, lod=np.array([-3.0]))
+    for from_wind, advice in ((False, "lower Amplitude"), (True, "raise the grid resolution")):
+        settings = SimpleNamespace(projector_elevation=0.0, height_source="PERLIN",
+                                   noise_from_wind=from_wind)
+        warning = bridge.frame.flat_warning(hf, result, settings)
+        assert warning.startswith("no wave is in the geometry") and advice in warning

@@ -83,6 +83,21 @@ def test_choppy_and_travelling(sea, bridge):
     assert lags[int(np.argmax(corr))] * 0.1 > 2.0  # metres downwind in a second
 
 
+def test_a_nan_wave_setting_is_named_and_nothing_drawn(sea, extension):
+    """A wave setting Blender lets through but the sea cannot take (NaN: Python and drivers
+    can set it) is named on the panel, and the ocean is empty until it is mended."""
+    stats_lines = extension.panels.ocean_panel.stats_lines
+    count = len(sea.data.vertices)
+    for name in ("wind_speed", "wind_direction", "fetch", "swell_period"):
+        good = getattr(sea.projgrid, name)
+        setattr(sea.projgrid, name, float("nan"))
+        assert stats_lines(sea, bpy.context.scene)[0] == (
+            "ERROR", f"Not built: {name}: must be finite, got nan")
+        assert len(sea.data.vertices) == 0
+        setattr(sea.projgrid, name, good)
+        assert len(sea.data.vertices) == count
+
+
 def test_foam_covers_the_sea_at_a_strong_wind(sea, state):
     """At 14 m/s the foam attribute is not empty (it was, the noise's threshold taken from
     heights the mesh did not show), and foam is listed active. (Whitecaps cover 1.4 % of the

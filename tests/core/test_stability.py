@@ -5,6 +5,8 @@ consistent winding, unit upward normals, corner interpolation equal to per-verte
 coverage by ray tests against the triangles, and no popping under a small camera move.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -111,8 +113,8 @@ def pose_from_bytes(data):
     # One pose in ten is the spectral sea (Add Ocean's), from a few seas so that each is made
     # once (grid_checks._spectral keeps them): its thin fitted volume and choppy bound.
     if d.unit() < 0.1:
-        pose = Pose(**{**pose.__dict__, "wind_speed": d.pick(4.0, 10.0, 20.0),
-                       "choppiness": d.pick(0.0, 1.5), "wind_direction": d.pick(0.0, 2.0)})
+        pose = dataclasses.replace(pose, wind_speed=d.pick(4.0, 10.0, 20.0),
+                                   choppiness=d.pick(0.0, 1.5), wind_direction=d.pick(0.0, 2.0))
     assert d.i <= SLOTS
     return pose
 

@@ -339,7 +339,7 @@ def flicker(out_dir, size=(320, 180), samples=4, frames=4, converged=64, supersa
     rendered without the filtering at `converged` samples ("converged"): what the pixels
     average to when every wave is drawn, so contrast that is aliasing is not counted as the
     waves'. That mirror lacks the roughness of the waves shorter than a pixel (Blender's bump
-    takes its slopes across a pixel), so the filtered first frame is also rendered with
+    takes its slopes across a pixel), so the filtered frames are also rendered with
     `supersample` times the pixels each way (one sample each) and averaged down
     ("supersampled", every frame): the same sea with waves down to that fraction of a pixel
     drawn as normals, what the filtering should keep, and how much that picture itself changes

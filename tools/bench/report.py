@@ -414,12 +414,13 @@ def _render(report):
             gain = by["unfiltered"]["flicker"] / max(by["filtered"]["flicker"], 1e-9)
             own = ""
             if "flicker" in by.get("supersampled", {}):
+                truth = max(by["supersampled"]["flicker"], 1e-9)
                 own = (" The supersampled picture, waves drawn down to an eighth of a pixel, "
-                       f"itself changes {by['supersampled']['flicker']:.4f} from frame to "
-                       f"frame ({by['unfiltered']['flicker'] / by['supersampled']['flicker']:.1f}"
-                       "× less than unfiltered), the filtered "
-                       f"{by['filtered']['flicker'] / by['supersampled']['flicker']:.2f}× that: "
-                       "a 3× cut would take away motion the picture has.")
+                       f"itself changes {truth:.4f} from frame to frame "
+                       f"({by['unfiltered']['flicker'] / truth:.1f}× less than unfiltered), "
+                       f"the filtered {by['filtered']['flicker'] / truth:.2f}× that")
+                own += (": a 3× cut would take away motion the picture has."
+                        if by["unfiltered"]["flicker"] < 3.0 * truth else ".")
             report.targets.append(Target(
                 f"Far-field frame-to-frame change filtered ≥ 3× less ({shot})",
                 f"{gain:.1f}× less", gain >= 3.0,
