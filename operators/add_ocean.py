@@ -14,14 +14,15 @@ DEFAULT_FORCE = 4
 def apply_sea_state(s, force):
     """Set the settings `s` (obj.projgrid) to Beaufort `force`, with one rebuild after (by the
     caller): the spectral sea's wind, fetch, choppiness and swell, and the noise's height and
-    wavelength for the same sea."""
+    wavelength for the same sea at the noise's own octaves and roughness."""
     preset = sea_states.sea_state(force, s.wind_direction)
     with settings.batch():
         s.height_source = "SPECTRUM"
         s.wind_speed, s.fetch, s.choppiness = preset.wind_speed, preset.fetch, preset.choppiness
         s.swell_height, s.swell_period = preset.swell_height, preset.swell_period
         s.swell_direction = sea_states.swell_direction(s.wind_direction)
-        s.amplitude, s.wave_scale = preset.amplitude, preset.wave_scale
+        s.amplitude, s.wave_scale = sea_states.noise_waves(
+            preset.wind_speed, preset.fetch, s.spectrum, s.octaves, s.roughness)
     return preset
 
 

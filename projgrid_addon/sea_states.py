@@ -43,8 +43,6 @@ class SeaPreset:
     choppiness: float
     swell_height: float
     swell_period: float
-    amplitude: float  # the noise source's, for the same significant height
-    wave_scale: float  # the noise source's first octave: the peak wavelength
 
 
 def sea_state(force, wind_direction=0.0):
@@ -55,10 +53,9 @@ def sea_state(force, wind_direction=0.0):
     developed = spectrum.significant_height(spectrum.SeaState(wind_speed=wind))
     if developed > probable > 0.0 and force >= 6:
         fetch = _fetch_for(wind, probable)
-    amplitude, wave_scale = noise_waves(wind, fetch)
     return SeaPreset(name=name, wind_speed=wind, fetch=fetch,
                      choppiness=round(min(1.0, 0.2 + 0.1 * force), 2), swell_height=swell,
-                     swell_period=period, amplitude=amplitude, wave_scale=wave_scale)
+                     swell_period=period)
 
 
 # The shortest first octave the noise takes (m): the panel's Wave Scale minimum.

@@ -29,6 +29,14 @@ def test_sea_state_sets_the_wind_fetch_chop_and_swell(sea, extension):
     assert s.fetch > 0.0 and s.choppiness == pytest.approx(1.0)  # a storm over its fetch
     bpy.ops.projgrid.sea_state(beaufort=13)  # beyond the scale: Blender clamps it, to 10
     assert s.wind_speed == pytest.approx(sea_states.sea_state(10).wind_speed)
+    # The hand-set noise (From Wind off) gets the preset's sea at the noise's own octaves,
+    # roughness and spectrum, not at the defaults'.
+    s.octaves, s.roughness, s.spectrum = 4, 0.8, "PIERSON_MOSKOWITZ"
+    bpy.ops.projgrid.sea_state(beaufort=6)
+    want = sea_states.sea_state(6)
+    height = sea_states.noise_waves(want.wind_speed, want.fetch, "PIERSON_MOSKOWITZ", 4, 0.8)
+    assert (s.amplitude, s.wave_scale) == pytest.approx(height, rel=1e-6)
+    assert s.amplitude != pytest.approx(sea_states.noise_waves(want.wind_speed, want.fetch)[0])
 
 
 def test_the_wind_raises_the_spectral_sea(sea):
