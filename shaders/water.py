@@ -12,8 +12,8 @@ with distance, and nothing flickers as detail finer than a pixel would. F is, fr
 mean Fresnel over those slopes (Bruneton's fit), which keeps a rough far sea darker than the sky
 at the horizon; from under water the exact unpolarised reflectance (Eq. 1.4) for IOR 1.333, in
 the form Blender's Fresnel node uses (total internal reflection when g^2 < 0). The sky is the
-world, or with local reflections our sphere probe's capture; the refraction is the water colour
-(from below, the sky through Snell's window).
+world, or with local reflections our sphere probe's capture; the refraction is the light the water
+scatters back up, lit by the scene (from below, the sky through Snell's window).
 
 Effects are branches muted while off (a muted mix or add shader passes its first shader on, so
 the branch is neither compiled nor evaluated): foam and refraction (the water colour
@@ -45,7 +45,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 16  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 17  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -76,7 +76,11 @@ EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
 
-WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear)
+WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in DAYLIGHT
+# The irradiance (W/m^2 per channel, linear) Add Ocean's sky and sun (sky.py, the sun 12 deg up)
+# put on the mean sea plane: the water scatters Water Colour back up under it, and under other
+# light in proportion (tests/blender/test_water_tree.py integrates it).
+DAYLIGHT = (1.2865, 1.7202, 2.7205)
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
     ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),
@@ -277,7 +281,11 @@ def _build(group):
     # Refraction: the water colour seen from above, or with refraction on what lies below
     # through the water body; from below (back faces) the sky through Snell's window (the BSDF
     # inverts the IOR on back faces itself).
-    colour = g.node("ShaderNodeEmission", {"Color": i["Water Colour"], "Strength": 1.0})
+    # The light the water scatters back up is lit (a night sea is dark): diffuse, of the
+    # albedo that gives back Water Colour in DAYLIGHT, on the waves' normal, so faces turned
+    # from the sun take less of it and go slate.
+    albedo = g.vector("MULTIPLY", i["Water Colour"], tuple(math.pi / e for e in DAYLIGHT))
+    colour = g.node("ShaderNodeBsdfDiffuse", {"Color": albedo, "Normal": normal})
     body = g.node("ShaderNodeMixShader", {0: 1.0, 1: colour.outputs[0],
                                           2: g.node("ShaderNodeBsdfTransparent").outputs[0]})
     body.name = "Refraction"

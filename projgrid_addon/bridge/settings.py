@@ -137,8 +137,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     water_colour: FloatVectorProperty(
         name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,
         default=water.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,
-        description="Deep water seen from above: the light it scatters back up (and the "
-        "colour the water body tends to with depth)")
+        description="Deep water seen from above in Add Ocean's daylight (its sky, the sun 12° "
+        "up): the light it scatters back up, which follows the scene's light (and the colour "
+        "the water body tends to with depth)")
     clarity: _float("Clarity", "How far one sees through the water: over this distance its "
                     "clearest (blue) light keeps 1/e of its strength; red fades 7.5 times "
                     "sooner", effects.CLARITY, 0.1, 1e4, 100.0, "LENGTH")

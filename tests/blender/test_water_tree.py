@@ -4,6 +4,7 @@ render), against shading.unresolved_slope_variance and shading.layer_gain."""
 
 import math
 
+import bpy
 import numpy as np
 import pytest
 
@@ -148,3 +149,38 @@ def test_the_slope_layer_s_gains_are_the_core_s(water):
             assert drawn == pytest.approx(want, rel=1e-5, abs=1e-7), (b, d, c, lod)
             seen.add(round(want, 4))
     assert len(seen) > 8 and 0.0 in seen and max(seen) > 0.5
+
+
+def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
+    """DAYLIGHT, under which the water scatters back its Water Colour, is the irradiance Add
+    Ocean's sky (its gradient and glow around the sun) and sun lamp put on the mean sea plane,
+    integrated here over the sky's hemisphere; and the group's diffuse albedo gives it back."""
+    sky, water_module = extension.shaders.sky, extension.shaders.water
+    sun_lamp = next(o for o in bpy.context.scene.objects if o.type == "LIGHT")
+    toward = np.array(sun_lamp.matrix_world)[:3, 2]
+    n = 300
+    theta, phi = np.meshgrid((np.arange(n) + 0.5) / n * math.pi / 2.0,
+                             (np.arange(2 * n) + 0.5) / n * math.pi, indexing="ij")
+    d = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], -1)
+    pos = [p for p, _ in sky.GRADIENT]
+    t = np.clip((d[..., 2] + 0.1) / 1.1, 0.0, 1.0)
+    radiance = np.stack([np.interp(t, pos, [c[k] for _, c in sky.GRADIENT]) for k in range(3)],
+                        axis=-1)
+    g = sky.GLOW_G
+    phase = (1.0 - g * g) / (1.0 + g * g - 2.0 * g * (d @ toward)) ** 1.5
+    radiance = radiance + np.asarray(sky.GLOW_COLOUR) * phase[..., None]
+    weight = np.cos(theta) * np.sin(theta) * (math.pi / 2.0 / n) * (math.pi / n)
+    irradiance = (radiance * weight[..., None]).sum(axis=(0, 1))
+    irradiance += sun_lamp.data.energy * max(toward[2], 0.0) * np.array(sun_lamp.data.color)
+    assert np.asarray(water_module.DAYLIGHT) == pytest.approx(irradiance, rel=0.01)
+
+    node, core = water
+    values, _, _ = _settings(node, core)
+    diffuse = next(n for n in node.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
+                   and n.inputs["Color"].is_linked
+                   and n.inputs["Color"].links[0].from_node.bl_idname == "ShaderNodeVectorMath")
+    albedo = Evaluator(values, 0.0, 10.0, (0.0, 0.0, 1.0)).input(diffuse.inputs["Color"])
+    assert albedo * np.asarray(water_module.DAYLIGHT) / math.pi == pytest.approx(
+        values["Water Colour"], rel=1e-4)
+    # Lit, not glowing: nothing in the group emits (a dusk sea would shine in the dark).
+    assert not any(n.bl_idname == "ShaderNodeEmission" for n in node.node_tree.nodes)
