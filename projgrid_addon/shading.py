@@ -74,12 +74,14 @@ def sun_elevation(direction):
     return float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
 
 
-# A wave is drawn while it spans this many pixels (Nyquist's two samples a wave; EEVEE's
-# antialiasing samples within the pixel); the slopes of shorter ones are roughness.
-PIXELS = 2.0
-# The most a pixel's footprint stretches at grazing angles (as the shader's): it stretches
-# along the view only, so an isotropic stretch by 1 / sqrt(cos) overstates it there.
-GRAZING = 3.0
+# A wave is drawn while it spans this many pixels along the footprint's major axis (as a GPU
+# picks a mip level; EEVEE's antialiasing samples within the pixel); the slopes of shorter ones
+# are roughness.
+PIXELS = 1.0
+# The most a pixel's footprint stretches at grazing angles: along the view by 1 / cos (the
+# major axis, which sets what aliases), at most this many times (the far band then keeps
+# waves of GRAZING pixels and more as normals: smooth, as the flicker bench measures).
+GRAZING = 9.0
 # `left_out_log` of a source that leaves nothing to the roughness: no band limit reaches it.
 NOT_LEFT_OUT = -100.0
 # The sea's roughness length (m): the wind at 12.5 m, where Cox and Munk measured it, from the
@@ -127,7 +129,7 @@ class Filtering:
     at the vertices' band limit lod (a source whose shader detail draws what the geometry
     leaves out: none):
 
-        ln L_p  = distance_power ln d - ln(cos) / 2 + pixel_log
+        ln L_p  = distance_power ln d - ln(cos) + pixel_log
         ln L_g  = left_out_log - lod ln 2
         sigma^2 = min(floor + ripple clamp((ln L_p - ln S) / (ln T - ln S), 0, 1)
                       + density clamp(ln L_p - ln T, 0, ln N - ln T)
@@ -145,7 +147,7 @@ class Filtering:
     distance_power: float
     floor: float
     ripple: float
-    cos_floor: float  # 1 / GRAZING^2
+    cos_floor: float  # 1 / GRAZING
     ripple_gain: float
     density: float
     shortest_log: float
@@ -177,7 +179,7 @@ def filtering(proj, width, slopes, wind_speed):
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),
                      ripple_top_log=float(np.log(slopes.ripple_top)),
-                     ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING**2,
+                     ceiling=slopes.total + extra, cos_floor=1.0 / GRAZING,
                      left_out_log=(NOT_LEFT_OUT if slopes.left_out_log is None
                                    else slopes.left_out_log),
                      layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
@@ -190,7 +192,7 @@ def footprint_log(f, distance, cos_view=1.0):
     sea plane (the shader's)."""
     d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
     c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
-    return f.distance_power * np.log(d) - 0.5 * np.log(c) + f.pixel_log
+    return f.distance_power * np.log(d) - np.log(c) + f.pixel_log
 
 
 def undrawn_share(top_log, bottom_log, footprint_log_):

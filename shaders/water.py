@@ -45,7 +45,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 17  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 18  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -164,7 +164,7 @@ def _build(group):
         "ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]), i["Cos Floor"])
     footprint = g.math("SUBTRACT", g.math("MULTIPLY_ADD", i["Distance Power"],
                                           g.math("LOGARITHM", distance, E), i["Pixel Log"]),
-                       g.math("MULTIPLY", g.math("LOGARITHM", grazing, E), 0.5))
+                       g.math("LOGARITHM", grazing, E))
 
     def undrawn(top, bottom):  # shading.undrawn_share
         return g.math("DIVIDE", g.math("SUBTRACT", footprint, bottom),

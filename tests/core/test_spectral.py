@@ -467,16 +467,20 @@ def test_the_ripples_are_the_spectrum_s_tail():
 
 
 def test_a_pixel_s_footprint():
-    """PIXELS (2) pixels' footprint: 2 pixel angles per metre of distance in perspective (twice
-    the width, half the footprint), 2 pixels' size everywhere in an orthographic view."""
-    assert shading.PIXELS == 2.0
+    """PIXELS (1) pixel's footprint: a pixel angle per metre of distance in perspective (twice
+    the width, half the footprint), a pixel's size everywhere in an orthographic view; seen at
+    cos to the sea plane, its major axis, 1 / cos times longer, at most GRAZING (9) times."""
+    assert shading.PIXELS == 1.0 and shading.GRAZING == 9.0
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     pixel = 2.0 / (proj[0, 0] * 960)
-    assert shading.pixel_footprint(proj, 960) == pytest.approx((np.log(2.0 * pixel), 1.0))
+    assert shading.pixel_footprint(proj, 960) == pytest.approx((np.log(pixel), 1.0))
     assert shading.pixel_footprint(proj, 1920)[0] == pytest.approx(
         shading.pixel_footprint(proj, 960)[0] - np.log(2.0))
     ortho = orthographic(50.0, 1.0, 0.1, 100.0)
-    assert shading.pixel_footprint(ortho, 1000) == pytest.approx((np.log(2 * 50.0 / 1000), 0.0))
+    assert shading.pixel_footprint(ortho, 1000) == pytest.approx((np.log(50.0 / 1000), 0.0))
+    f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=7.0)).slopes, 7.0)
+    at = [float(np.exp(shading.footprint_log(f, 100.0, c))) for c in (1.0, 0.5, 0.2, 0.05)]
+    assert at == pytest.approx([100.0 * pixel, 200.0 * pixel, 500.0 * pixel, 900.0 * pixel])
 
 
 def slope_variance(source, t=2.0, n=100_000, e=0.005):
