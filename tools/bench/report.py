@@ -446,11 +446,10 @@ def _render(report):
                 "about half, but that mirror has no roughness for the waves shorter than a "
                 "pixel (Blender's bump takes slopes across a pixel: at 8 × 8 times the pixels "
                 "the mirror's contrast stays where it was), so Cox and Munk's slopes, which "
-                "the filtered sea carries, are missing there. Drawing waves down to one pixel "
-                "instead of two as normals raised the filtered contrast by 8 % only (a probe: "
-                "0.0050 to 0.0054, aerial, away); the rest lies in how waves between an "
-                "eighth of a pixel and two pixels shade as roughness rather than as normals "
-                "(Bruneton's mean Fresnel is a fit)."))
+                "the filtered sea carries, are missing there. Against the supersampled "
+                "picture the rest lies in how waves between an eighth of a pixel and the "
+                "footprint shade as roughness rather than as normals (Bruneton's mean Fresnel "
+                "is a fit)."))
             if "flicker_2" in by["filtered"]:
                 gain2 = by["unfiltered"]["flicker_2"] / max(by["filtered"]["flicker_2"], 1e-9)
                 report.targets.append(Target(
