@@ -31,7 +31,7 @@ class PROJGRID_OT_sea_state(bpy.types.Operator):
         obj.projgrid.height_source = source  # the waves' kind is the user's
         frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
         height = spectrum.significant_height(spectrum.SeaState(
-            wind_speed=preset.wind_speed, fetch=preset.fetch))
+            wind_speed=preset.wind_speed, fetch=preset.fetch, spectrum=obj.projgrid.spectrum))
         self.report({"INFO"}, f"Beaufort {self.beaufort} ({preset.name}): wind "
                     f"{preset.wind_speed:g} m/s, significant wave height {height:.2g} m")
         return {"FINISHED"}

@@ -57,6 +57,20 @@ def absorption(clarity):
     light over `clarity` metres: clear coastal water's (ABSORPTION), scaled."""
     clarity = positive("clarity", clarity)
     return tuple(a * CLARITY / clarity for a in ABSORPTION)
+
+
+def body_light(sun_irradiance, sky_strength, daylight, daylight_sun):
+    """Per RGB channel, the light on the sea against the daylight the Water Colour is given in:
+    (E_sun + s (D - D_sun)) / D, with E_sun the sun lamp's irradiance on the sea plane (RGB),
+    s the sky's strength against the daylight's sky, D the daylight's irradiance (RGB) and
+    D_sun its sun's. The water body scatters its colour in proportion (its glow, Fleck Eq.
+    17), as the surface's lit body does."""
+    d = np.asarray(daylight, dtype=np.float64)
+    sun = np.broadcast_to(np.asarray(sun_irradiance, dtype=np.float64), d.shape)
+    return tuple(float(v) for v in (sun + max(float(sky_strength), 0.0) * (d - daylight_sun))
+                 / d)
+
+
 # Caustic shadow transparency of flat water; focused light rises to 1 (the most a shadow passes).
 CAUSTIC_MEAN = 0.5
 

@@ -74,9 +74,10 @@ def sun_elevation(direction):
     return float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
 
 
-# A wave is drawn while it spans this many pixels along the footprint's major axis (as a GPU
-# picks a mip level; EEVEE's antialiasing samples within the pixel); the slopes of shorter ones
-# are roughness.
+# A wave is drawn while it spans this many pixels along the footprint's major axis, which sets
+# what aliases (a GPU picks its mip level by it too, though keeping waves of two texels); EEVEE's
+# jittered samples antialias within the pixel. One pixel on the major axis flickers less in the
+# far field than two on the geometric mean (docs/benchmarks.md §6) and keeps the near glitter.
 PIXELS = 1.0
 # The most a pixel's footprint stretches at grazing angles: along the view by 1 / cos (the
 # major axis, which sets what aliases), at most this many times (the far band then keeps

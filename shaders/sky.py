@@ -19,6 +19,9 @@ SUN = "Projected Grid Sun"
 # (position on the ramp from z = -0.1 to z = 1, linear colour)
 GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
             (1.0, (0.08, 0.20, 0.55)))
+RAMP_Z = (-0.1, 1.0)  # the view direction's height mapped onto the ramp's 0 to 1
+SUN_ELEVATION, SUN_STRENGTH = 12.0, 3.0  # degrees, W/m^2: Add Ocean's sun lamp
+BACKGROUND = "Background"  # the world's Background node: its Strength scales the sky
 GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun (0: no sun)
 GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)
 GLOW_COLOUR = (0.03, 0.0276, 0.024)  # linear, times the phase function: warm, as sunlight
@@ -30,7 +33,7 @@ def world():
     g = Graph(empty_tree(w))
     direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
     z = g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"]
-    t = g.node("ShaderNodeMapRange", {0: z, 1: -0.1, 2: 1.0, 3: 0.0, 4: 1.0}).outputs[0]
+    t = g.node("ShaderNodeMapRange", {0: z, 1: RAMP_Z[0], 2: RAMP_Z[1], 3: 0.0, 4: 1.0}).outputs[0]
     ramp = g.node("ShaderNodeValToRGB", {0: t})
     elements = ramp.color_ramp.elements
     while len(elements) < len(GRADIENT):
@@ -47,12 +50,13 @@ def world():
         "MULTIPLY", phase, g.vector("LENGTH", toward.outputs[0])))  # none without a sun
     sky = g.vector("ADD", ramp.outputs["Color"], glow)
     background = g.node("ShaderNodeBackground", {"Color": sky, "Strength": 1.0})
+    background.name = BACKGROUND
     output = g.node("ShaderNodeOutputWorld")
     g.set(output.inputs["Surface"], background.outputs[0])
     return w
 
 
-def sun(collection, elevation=12.0, azimuth=0.0, strength=3.0):
+def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0, strength=SUN_STRENGTH):
     """A sun lamp `elevation` degrees above the horizon, shining from `azimuth` (0 = from +Y)."""
     data = bpy.data.lights.new(SUN, "SUN")
     data[TAG] = True
@@ -63,6 +67,16 @@ def sun(collection, elevation=12.0, azimuth=0.0, strength=3.0):
     obj.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(180.0 + azimuth))
     collection.objects.link(obj)
     return obj
+
+
+def strength(world):
+    """How bright a world is against our sky: our world's Background Strength; another world
+    counts as our sky (1.0), none as dark (0.0)."""
+    if world is None:
+        return 0.0
+    node = (world.node_tree.nodes.get(BACKGROUND) if world.get(TAG) and world.node_tree
+            is not None else None)
+    return float(node.inputs["Strength"].default_value) if node is not None else 1.0
 
 
 def aim_glow(world, toward):

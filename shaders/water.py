@@ -45,7 +45,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 18  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 19  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -81,6 +81,7 @@ WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in 
 # put on the mean sea plane: the water scatters Water Colour back up under it, and under other
 # light in proportion (tests/blender/test_water_tree.py integrates it).
 DAYLIGHT = (1.2865, 1.7202, 2.7205)
+DAYLIGHT_SUN = 0.6237  # of it, the sun lamp's (white): 3 W/m^2 at 12 deg up
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
     ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),
@@ -284,7 +285,8 @@ def _build(group):
     # The light the water scatters back up is lit (a night sea is dark): diffuse, of the
     # albedo that gives back Water Colour in DAYLIGHT, on the waves' normal, so faces turned
     # from the sun take less of it and go slate.
-    albedo = g.vector("MULTIPLY", i["Water Colour"], tuple(math.pi / e for e in DAYLIGHT))
+    albedo = g.vector("MINIMUM", g.vector("MULTIPLY", i["Water Colour"], tuple(
+        math.pi / e for e in DAYLIGHT)), (1.0, 1.0, 1.0))  # no more light than it receives
     colour = g.node("ShaderNodeBsdfDiffuse", {"Color": albedo, "Normal": normal})
     body = g.node("ShaderNodeMixShader", {0: 1.0, 1: colour.outputs[0],
                                           2: g.node("ShaderNodeBsdfTransparent").outputs[0]})

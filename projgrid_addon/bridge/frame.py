@@ -47,6 +47,18 @@ def update_scene(the_scene, depsgraph, render, frame_change):
                           f"{app.ocean.name_full!r} {kind}: {text}", flush=True)
 
 
+def body_light(the_scene, sun):
+    """The light on the sea against the daylight the Water Colour is given in, per RGB channel
+    (effects.body_light): the evaluated sun lamp's and the world's."""
+    irradiance = 0.0
+    if sun is not None:
+        toward = shading.sun_direction(sun.matrix_world)
+        irradiance = (float(sun.data.energy) * np.array(sun.data.color, dtype=np.float64)
+                      * max(float(toward[2]), 0.0))
+    return effects.body_light(irradiance, sky.strength(the_scene.world), water.DAYLIGHT,
+                              water.DAYLIGHT_SUN)
+
+
 def surface_state(obj):
     """The state of the surface drawing ocean `obj`: its own, or its stand-in's."""
     own = RUNTIME.peek(obj)
@@ -123,13 +135,14 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         hf = scene.height_field(settings).prepare(t)
         cam = Camera(*camera)
         sun = objects.sun_lamp(the_scene, depsgraph, render)
+        light = body_light(the_scene, sun)
         camera_key = cam.view.tobytes() + cam.proj.tobytes()
         facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
                                   settings)
         key = (render, res, camera_key, world.tobytes(), t,
                tuple(getattr(settings, p) for p in scene.SETTINGS), scene.look(settings),
                tuple(shot.render_size(the_scene)),  # the pixels' footprint (shading.Filtering)
-               surface.data.session_uid,
+               surface.data.session_uid, light,
                facts.key())
         if key == state.key:
             return None
@@ -216,7 +229,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     if body_material is not None:
         body_material = water.own_body_material(body.data, absorption,
                                                 effects.GODRAY_TILE_TEXELS)
-        water.update_body(body_material, absorption, water_colour)
+        water.update_body(body_material, absorption,
+                          tuple(c * e for c, e in zip(water_colour, light, strict=True)))
         if godrays is not None:
             water.update_godrays(body_material, *godrays)
     companions.place_companions(surface, cam, level, hf.bound, on, in_use, volume_reach,

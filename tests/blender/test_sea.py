@@ -284,6 +284,31 @@ def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
     assert mine.node_tree is None or "Projected Grid Water" not in mine.node_tree.nodes
 
 
+def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
+    """The water body scatters the Water Colour in proportion to the light on the sea
+    (effects.body_light), as the lit surface does: the same in Add Ocean's daylight, darker
+    with the sun lamp out and the sky dimmed, nothing in the dark."""
+    scene = bpy.context.scene
+    glow = sea.projgrid.water_body.data.materials[0].node_tree.nodes["Water Glow"].inputs
+
+    def emitted():
+        return np.array(glow["Color"].default_value[:3]) * glow["Strength"].default_value
+    scene.frame_set(2)
+    daylight = emitted()
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+    sun.data.energy = 0.0
+    scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.25
+    scene.frame_set(3)
+    water = extension.shaders.water
+    want = extension.projgrid_addon.effects.body_light(0.0, 0.25, water.DAYLIGHT,
+                                                        water.DAYLIGHT_SUN)
+    assert emitted() == pytest.approx(daylight * np.array(want), rel=1e-4)
+    assert max(want) < 0.25
+    scene.world = None
+    scene.frame_set(4)
+    assert emitted().max() < 1e-9
+
+
 def test_two_oceans_keep_their_own_clarity(sea, extension):
     """Each water body has its own body material: one ocean's clarity is not another's."""
     other = add_ocean()

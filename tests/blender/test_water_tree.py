@@ -33,6 +33,7 @@ MATH = {
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
     "MULTIPLY": lambda a, b, s: a * b, "SCALE": lambda a, b, s: a * s,
+    "MINIMUM": lambda a, b, s: np.minimum(a, b),
     "NORMALIZE": lambda a, b, s: a / np.linalg.norm(a) if np.linalg.norm(a) else a * 0.0,
 }
 
@@ -163,7 +164,8 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
                              (np.arange(2 * n) + 0.5) / n * math.pi, indexing="ij")
     d = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], -1)
     pos = [p for p, _ in sky.GRADIENT]
-    t = np.clip((d[..., 2] + 0.1) / 1.1, 0.0, 1.0)
+    low, high = sky.RAMP_Z
+    t = np.clip((d[..., 2] - low) / (high - low), 0.0, 1.0)
     radiance = np.stack([np.interp(t, pos, [c[k] for _, c in sky.GRADIENT]) for k in range(3)],
                         axis=-1)
     g = sky.GLOW_G
@@ -171,7 +173,10 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     radiance = radiance + np.asarray(sky.GLOW_COLOUR) * phase[..., None]
     weight = np.cos(theta) * np.sin(theta) * (math.pi / 2.0 / n) * (math.pi / n)
     irradiance = (radiance * weight[..., None]).sum(axis=(0, 1))
-    irradiance += sun_lamp.data.energy * max(toward[2], 0.0) * np.array(sun_lamp.data.color)
+    sun = sun_lamp.data.energy * max(toward[2], 0.0)
+    assert sun == pytest.approx(sky.SUN_STRENGTH * math.sin(math.radians(sky.SUN_ELEVATION)))
+    assert water_module.DAYLIGHT_SUN == pytest.approx(sun, rel=1e-3)
+    irradiance += sun * np.array(sun_lamp.data.color)
     assert np.asarray(water_module.DAYLIGHT) == pytest.approx(irradiance, rel=0.01)
 
     node, core = water
@@ -182,5 +187,9 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     albedo = Evaluator(values, 0.0, 10.0, (0.0, 0.0, 1.0)).input(diffuse.inputs["Color"])
     assert albedo * np.asarray(water_module.DAYLIGHT) / math.pi == pytest.approx(
         values["Water Colour"], rel=1e-4)
+    # A colour brighter than the daylight can give back scatters all it receives, no more.
+    bright = {**values, "Water Colour": np.array([0.9, 0.2, 0.9])}
+    albedo = Evaluator(bright, 0.0, 10.0, (0.0, 0.0, 1.0)).input(diffuse.inputs["Color"])
+    assert albedo == pytest.approx([1.0, 0.2 * math.pi / water_module.DAYLIGHT[1], 1.0])
     # Lit, not glowing: nothing in the group emits (a dusk sea would shine in the dark).
     assert not any(n.bl_idname == "ShaderNodeEmission" for n in node.node_tree.nodes)

@@ -252,3 +252,15 @@ def test_facts_keys_differ_exactly_when_the_facts_do():
     mirrored = facts(objects=[SceneObject("Boat", -2.0, 2.0, True, box, True)])
     for other in (moved, mirrored, facts(), facts(camera_height=9.0), facts(sun_elevation=3.0)):
         assert other.key() != base.key()
+
+
+def test_the_body_s_light_is_the_daylight_s_share():
+    """effects.body_light: 1 in the daylight the Water Colour is given in, nought in the dark,
+    the sun's and the sky's parts apart, per channel."""
+    daylight, sun = (1.3, 1.7, 2.7), 0.6
+    assert effects.body_light(sun, 1.0, daylight, sun) == pytest.approx((1.0, 1.0, 1.0))
+    assert effects.body_light(0.0, 0.0, daylight, sun) == (0.0, 0.0, 0.0)
+    sky_only = effects.body_light(0.0, 1.0, daylight, sun)
+    assert sky_only == pytest.approx([(d - sun) / d for d in daylight])
+    assert effects.body_light((1.2, 0.6, 0.0), 0.5, daylight, sun) == pytest.approx(
+        [(e + 0.5 * (d - sun)) / d for e, d in zip((1.2, 0.6, 0.0), daylight, strict=True)])

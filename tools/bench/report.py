@@ -366,17 +366,15 @@ def _render(report):
         before = BEFORE_FILTERING["water group"] / BEFORE_FILTERING["plain glossy"]
         report.targets.append(Target(
             "Filtered water render ≤ 1.1× the unfiltered (16 samples, over a plain glossy)",
-            f"{now / before:.2f}×", now / before <= 1.1,
+            f"{now / before:.3f}×", now / before <= 1.1,
             "**Filtering's render cost.** The per-pixel roughness, mean Fresnel and the bumps' "
             f"fades take the water group to {now:.2f}× a plain glossy plane's render time, "
-            f"against {before:.2f}× before them (a ratio stored from another run). Since it "
-            "was last met (1.06×) the foam's per-pixel rank of its grain noise was added: "
-            "foam on renders in 1.04× foam off's time (the default shot, 320×180, 16 "
-            "samples, four interleaved renders each); and the water seen from above became "
-            "lit (a diffuse lobe in place of an emission, so a dusk sea darkens): 1.05× the "
-            "emission's time (17.0 s against 16.2 s, median of four interleaved renders; 10th "
-            "percentile 16.1 and 14.8 s; CPU 29.1 and 27.1 s). The ratio before the filtering "
-            "was measured on another machine (an Intel Xeon; this run an AMD EPYC)."))
+            f"against {before:.2f}× before them (a ratio stored from another run, on another "
+            "machine: an Intel Xeon, where this target last read 0.97× at 77b2f14). Since then "
+            "the water seen from above became lit (a diffuse lobe in place of an emission, so "
+            "a dusk sea darkens): a probe at 09757b6 measured it at 1.05× the emission's time "
+            "(the default shot, 320×180, 16 samples: 17.0 s against 16.2 s, median of four "
+            "interleaved renders; 10th percentile 16.1 and 14.8 s; CPU 29.1 and 27.1 s)."))
         md += [f"The water group renders in {now:.2f}× a plain glossy plane's time at 16 "
                f"samples; before the filtering from geometry to BRDF, {before:.2f}× (commit "
                "8a8513a's run).", ""]
