@@ -22,8 +22,9 @@ below, Fleck Eq. 14/17). The water's shadow is cast by a caster object of ours w
 material, transparent by the caustics: the scene's sun projects them onto submerged geometry.
 The godrays scatter in the water body by a caustic tile of ours (CAUSTIC_IMAGE). Refraction
 stays dithered: EEVEE's blended method is far slower on the CPU (docs/benchmarks.md, findings).
-The water body is a volume of our own: absorption a per channel and emission a * water colour, so
-that radiance after d metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14 and 17).
+The water body is a volume of our own: absorption a per channel and emission a * water colour
+(times the light on the sea against the daylight, effects.body_light), so that radiance after d
+metres is e^(-a d) L + (1 - e^(-a d)) water colour (Eq. 14 and 17).
 
 Over 300 lines on purpose: one node tree, built top to bottom as the shading model reads
 (detail, filtering, Fresnel, reflection, refraction, foam), plus the versioned materials.
