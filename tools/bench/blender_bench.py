@@ -263,9 +263,11 @@ def rebuild_cost(sizes=(17, 65, 145, 257, 577, 1025), repeats=15):
     return rows
 
 
-def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
+def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180), repeats=3):
     """EEVEE on this CPU: render time and error against a high-sample reference, for the water
-    node group and for a plain glossy plane, at equal samples (the default shot)."""
+    node group and for a plain glossy plane, at equal samples (the default shot): the two
+    interleaved `repeats` times at each count up to 16 (once at more), the median wall time,
+    its 10th percentile and the median CPU time."""
     from tools.demo import default_shot
 
     bpy.ops.wm.read_homefile(use_empty=True)
@@ -286,21 +288,28 @@ def render_cost(samples=(1, 4, 16, 64), reference_samples=128, size=(320, 180)):
         ocean.data.materials[0] = material
         scene.eevee.taa_render_samples = n
         scene.render.filepath = os.path.join(tmp, f"{material.name}-{n}.png")
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         bpy.ops.render.render(write_still=True)
-        seconds = time.perf_counter() - start
+        seconds = (time.perf_counter() - start, time.process_time() - cpu)
         return seconds, oiio.ImageBuf(scene.render.filepath).get_pixels(oiio.FLOAT)[..., :3]
 
     render(water, 1)  # shader compilation, not counted
     render(glossy, 1)
+    refs = {m.name: render(m, reference_samples)[1] for m in (water, glossy)}
     rows = []
-    for material in (water, glossy):
-        _, ref = render(material, reference_samples)
-        for n in samples:
-            seconds, img = render(material, n)
+    for n in samples:
+        times, error = {water.name: [], glossy.name: []}, {}
+        for _ in range(repeats if n <= 16 else 1):
+            for material in (water, glossy):
+                seconds, img = render(material, n)
+                times[material.name].append(seconds)
+                error[material.name] = float(np.sqrt(np.mean((img - refs[material.name]) ** 2)))
+        for material in (water, glossy):
+            wall, cpu = np.array(times[material.name]).T
             rows.append({"material": "water group" if material is water else "plain glossy",
-                         "samples": n, "seconds": seconds,
-                         "rms_error": float(np.sqrt(np.mean((img - ref) ** 2)))})
+                         "samples": n, "seconds": float(np.median(wall)),
+                         "p10": float(np.percentile(wall, 10)), "cpu": float(np.median(cpu)),
+                         "rms_error": error[material.name]})
     ocean.data.materials[0] = water
     return rows
 
