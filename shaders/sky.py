@@ -16,7 +16,7 @@ from .nodes import TAG, Graph, empty_tree
 
 WORLD = "Projected Grid Sky"
 SUN = "Projected Grid Sun"
-# (position on the ramp from z = -0.1 to z = 1, linear colour)
+# (position on the ramp from z = RAMP_Z[0] to z = RAMP_Z[1], linear colour)
 GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
             (1.0, (0.08, 0.20, 0.55)))
 RAMP_Z = (-0.1, 1.0)  # the view direction's height mapped onto the ramp's 0 to 1

@@ -36,6 +36,7 @@ import zlib
 import bpy
 import numpy as np
 
+from . import sky
 from .nodes import TAG, Graph, assign, empty_tree, socket
 
 E = 2.718281828459045  # the natural logarithm's base
@@ -82,7 +83,8 @@ WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in 
 # put on the mean sea plane: the water scatters Water Colour back up under it, and under other
 # light in proportion (tests/blender/test_water_tree.py integrates it).
 DAYLIGHT = (1.2865, 1.7202, 2.7205)
-DAYLIGHT_SUN = 0.6237  # of it, the sun lamp's (white): 3 W/m^2 at 12 deg up
+# Of it, the sun lamp's (white).
+DAYLIGHT_SUN = sky.SUN_STRENGTH * math.sin(math.radians(sky.SUN_ELEVATION))
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
     ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),

@@ -32,9 +32,8 @@ def update_scene(the_scene, depsgraph, render, frame_change):
         companions.remove_stale_stand_ins(the_scene, apps)
     if apps:
         sun = objects.sun_lamp(the_scene, depsgraph, render)
-        toward = None if sun is None else np.array(sun.matrix_world, dtype=np.float64)[:3, 2]
-        sky.aim_glow(the_scene.world, None if toward is None else
-                     toward / max(float(np.linalg.norm(toward)), 1e-12))
+        sky.aim_glow(the_scene.world,
+                     None if sun is None else shading.sun_direction(sun.matrix_world))
     for app in apps:
         message = update_appearance(app, the_scene, depsgraph, render=render,
                                     frame_change=frame_change)
@@ -47,12 +46,12 @@ def update_scene(the_scene, depsgraph, render, frame_change):
                           f"{app.ocean.name_full!r} {kind}: {text}", flush=True)
 
 
-def body_light(the_scene, sun):
+def body_light(the_scene, sun, toward):
     """The light on the sea against the daylight the Water Colour is given in, per RGB channel
-    (effects.body_light): the evaluated sun lamp's and the world's."""
+    (effects.body_light): the evaluated sun lamp's, shining from unit vector `toward`, and the
+    world's."""
     irradiance = 0.0
     if sun is not None:
-        toward = shading.sun_direction(sun.matrix_world)
         irradiance = (float(sun.data.energy) * np.array(sun.data.color, dtype=np.float64)
                       * max(float(toward[2]), 0.0))
     return effects.body_light(irradiance, sky.strength(the_scene.world), water.DAYLIGHT,
@@ -135,10 +134,10 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         hf = scene.height_field(settings).prepare(t)
         cam = Camera(*camera)
         sun = objects.sun_lamp(the_scene, depsgraph, render)
-        light = body_light(the_scene, sun)
         camera_key = cam.view.tobytes() + cam.proj.tobytes()
         facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, hf,
                                   settings)
+        light = body_light(the_scene, sun, facts.sun_direction)
         key = (render, res, camera_key, world.tobytes(), t,
                tuple(getattr(settings, p) for p in scene.SETTINGS), scene.look(settings),
                tuple(shot.render_size(the_scene)),  # the pixels' footprint (shading.Filtering)
