@@ -232,10 +232,25 @@ class HeightField:
                               time_rate=float(self.time_coordinate(first, 1.0)))
 
     def ripple(self):
-        """No detail beyond `shader_detail`: every octave of the noise reaches the shader
-        through it (the spectral sea's `ripple` is its tail below the last band)."""
-        return shading.Detail(first=0, scale=1.0, octaves=0.0, roughness=0.5, height=0.0,
-                              time_rate=0.0), 0.0  # no wavelength: never shown
+        """(shading.Detail, longest wavelength m): the fractal carried on below its last octave,
+        shading.RIPPLE_OCTAVES octaves each half the height of the one before (the roughness
+        the shader's ripples have; every octave of the noise's own reaches the shader through
+        `shader_detail`). Without them the wind's slopes all went into the roughness at every
+        distance (shading.filtering) and the noise's sea was blurred even at the camera."""
+        top = self.wavelength(self.octaves)
+        std = (self._gain(self.octaves) * _noise.NOISE_STD
+               * np.sqrt(sum(0.25**j for j in range(shading.RIPPLE_OCTAVES))))
+        return shading.Detail(first=self.octaves, scale=1.0 / top,
+                              octaves=float(shading.RIPPLE_OCTAVES - 1), roughness=0.5,
+                              height=float(std / shading.NOISE_FAC_STD),
+                              time_rate=float(self.time_coordinate(self.octaves, 1.0))), top
+
+    def _gain(self, octave):
+        """Octave i's height over the noise's, amplitude alpha^i over the noise's bound (the
+        ripples' first: i = octaves); none without octaves, so a flat sea has no ripples."""
+        if self.octaves == 0:
+            return 0.0
+        return self.amplitude / _noise.NOISE_BOUND * self.roughness**octave
 
     def travel(self, octave, t):
         """How far octave i has travelled along the wind at time t: (dx, dy) in metres."""
@@ -249,15 +264,19 @@ class HeightField:
 
     @property
     def slopes(self):
-        """The slope variance of the octaves (shading.Slopes; no ripples): octave i's slope is
-        its gain times the noise's gradient per lattice unit over its wavelength."""
-        variances = [(self.amplitude / _noise.NOISE_BOUND * self.roughness**i
-                      * _noise.GRADIENT_RMS / self.wavelength(i)) ** 2
-                     for i in range(self.octaves)]
-        shortest = float(self.wavelength(max(self.octaves - 1, 0)))
-        return shading.Slopes(total=float(sum(variances)),
-                              density=float(variances[-1] / np.log(2.0)) if variances else 0.0,
-                              ripple=0.0, ripple_top=shortest, shortest=shortest)
+        """The slope variance of the octaves and the ripples (shading.Slopes): octave i's slope
+        is its gain times the noise's gradient per lattice unit over its wavelength; each
+        ripple octave has the last octave's slopes, half its height over half its wavelength."""
+        def variance(gain, wavelength):
+            return (gain * _noise.GRADIENT_RMS / wavelength) ** 2
+
+        octaves = [variance(self._gain(i), self.wavelength(i)) for i in range(self.octaves)]
+        top = self.wavelength(self.octaves)
+        ripple = shading.RIPPLE_OCTAVES * variance(self._gain(self.octaves), top)
+        return shading.Slopes(total=float(sum(octaves) + ripple),
+                              density=float(octaves[-1] / np.log(2.0)) if octaves else 0.0,
+                              ripple=float(ripple), ripple_top=float(top),
+                              shortest=float(top / 2.0**shading.RIPPLE_OCTAVES))
 
     @property
     def spread(self):

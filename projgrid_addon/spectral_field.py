@@ -66,7 +66,6 @@ SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 9
 # A band's tiles are its base size times these: not multiples of each other, and at most 1.28
 # times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
 TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
-RIPPLE_OCTAVES = 3  # the spectrum's tail below the last band, as shading detail: 25 cm to 3 cm
 LAYER_FIRST = 3  # the bands from this one on are the slope layer's too (slope_layer.py)
 FOAM_STEPS = 2  # foam calibrations over a band's fade-in (foam_levels)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
@@ -470,19 +469,21 @@ class SpectralField:
 
     @cached_property
     def _ripple(self):
-        """The waves shorter than the last band, which no tile holds, down RIPPLE_OCTAVES
-        octaves, as shading detail (shading.Detail, `first` unused; drawn where a pixel shows
-        them, shading.Filtering), and the longest of them (m). Their height is the
+        """The waves shorter than the last band, which no tile holds, down
+        shading.RIPPLE_OCTAVES octaves, as shading detail (shading.Detail, `first` unused;
+        drawn where a pixel shows them, shading.Filtering), and the longest of them (m). Their
+        height is the
         spectrum's own over that range (σ² = α/4k² under its k⁻⁴ tail; the bump's distance is
         σ over the noise's own spread), each octave half the one before. Without them the near
         water, whose every band the geometry holds, had no detail finer than 25 cm and looked
         glassy."""
         top = bands()[-1][0]
         k = 2.0 * np.pi / top
-        w = np.sqrt(spectrum.GRAVITY * k * np.geomspace(1.0, 2.0**RIPPLE_OCTAVES, 2000))
+        octaves = shading.RIPPLE_OCTAVES
+        w = np.sqrt(spectrum.GRAVITY * k * np.geomspace(1.0, 2.0**octaves, 2000))
         variance = float(spectrum.integrate(spectrum.wind_spectrum(w, self.state)
                                             + spectrum.swell_spectrum(w, self.state), w))
-        detail = shading.Detail(first=BANDS, scale=1.0 / top, octaves=float(RIPPLE_OCTAVES - 1),
+        detail = shading.Detail(first=BANDS, scale=1.0 / top, octaves=float(octaves - 1),
                                 roughness=0.5,
                                 height=np.sqrt(variance) / shading.NOISE_FAC_STD,
                                 time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * top))))
@@ -497,7 +498,7 @@ class SpectralField:
         (`left_out_log`). (The shader's detail noise has a sea's height but hardly any of its
         slopes: noise octaves halving in height from the band's longest wave.)"""
         top = bands()[-1][0]
-        shortest = top / 2.0**RIPPLE_OCTAVES
+        shortest = top / 2.0**shading.RIPPLE_OCTAVES
         ripple = _slope_variance(self.state, shortest, top)
         layer_top = bands()[LAYER_FIRST][1]
         return shading.Slopes(

@@ -456,14 +456,35 @@ def test_the_ripples_are_the_spectrum_s_tail():
     α = 0.0081, whatever the wind (its saturation range); the bump's distance is σ over the
     spread of Blender's noise."""
     k1 = 2.0 * np.pi / spectral_field.bands()[-1][0]
-    k2 = k1 * 2.0**spectral_field.RIPPLE_OCTAVES
+    k2 = k1 * 2.0**shading.RIPPLE_OCTAVES
     sigma = np.sqrt(0.0081 / 4.0 * (1.0 / k1**2 - 1.0 / k2**2))
     for u in (5.0, 15.0):
         detail, longest = SpectralField(SeaState(wind_speed=u)).ripple()
         assert detail.height * shading.NOISE_FAC_STD == pytest.approx(sigma, rel=0.02)
         assert 1.0 / detail.scale == pytest.approx(longest)
-    none, _ = HeightField().ripple()
-    assert none.height == 0.0
+
+
+def test_the_noise_s_ripples_carry_on_its_fractal():
+    """The noise's ripples are its next octaves (at roughness 0.5, each half the one before):
+    as high, and as steep, as the octaves a noise of three more would add (the per-octave
+    keys are the same); a noise without octaves has none, so a flat sea stays flat and the
+    wind's slopes are all roughness."""
+    source = HeightField(amplitude=0.8, wave_scale=30.0, octaves=6, method="exact", seed=3)
+    more = HeightField(amplitude=0.8, wave_scale=30.0, method="exact", seed=3,
+                       octaves=6 + shading.RIPPLE_OCTAVES)
+    detail, longest = source.ripple()
+    assert longest == pytest.approx(30.0 / 2**6) and 1.0 / detail.scale == pytest.approx(longest)
+    x, y = np.random.default_rng(4).uniform(0.0, 500.0, (2, 50_000))
+    added = more.heights(x, y, 2.0) - source.heights(x, y, 2.0)
+    assert detail.height * shading.NOISE_FAC_STD == pytest.approx(added.std(), rel=0.05)
+    slopes = source.slopes
+    assert slopes.ripple == pytest.approx(
+        slope_variance(more) - slope_variance(source), rel=0.10)
+    assert slopes.shortest == pytest.approx(longest / 2**shading.RIPPLE_OCTAVES)
+    flat = HeightField(octaves=0)
+    assert flat.ripple()[0].height == 0.0 and flat.slopes.ripple == 0.0
+    assert shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960,
+                             flat.slopes, 7.0).floor == pytest.approx(shading.cox_munk(7.0))
 
 
 def test_a_pixel_s_footprint():
@@ -543,8 +564,8 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
                             longest if level > levels[0] else 2e4)
                 # the shader keeps the ripple noise's octaves (each an octave band of equal
                 # slopes, from 25 cm down) whose band lies above the footprint
-                octaves = np.clip(np.log2(top / lp), 0.0, spectral_field.RIPPLE_OCTAVES)
-                drawn += f.ripple_gain**2 * ripple * octaves / spectral_field.RIPPLE_OCTAVES
+                octaves = np.clip(np.log2(top / lp), 0.0, shading.RIPPLE_OCTAVES)
+                drawn += f.ripple_gain**2 * ripple * octaves / shading.RIPPLE_OCTAVES
                 rough = float(shading.unresolved_slope_variance(f, d, cos, lod))
                 assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lod, lp)
     assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn
