@@ -87,6 +87,20 @@ PIXELS = 1.0
 # major axis, which sets what aliases), at most this many times (the far band then keeps
 # waves of GRAZING pixels and more as normals: smooth, as the flicker bench measures).
 GRAZING = 9.0
+# Sun glint from discrete facets (Jakob et al. 2014; Zirr and Kaplanyan 2016): each facet that
+# meets the sun's reflection slope shows the whole sun, so a pixel holding few facets sparkles
+# and only one holding many shows the mean lobe. The facets are half the ripples' shortest wave
+# (about the capillary waves' 1.7 cm); the shader gives each its own normal from the slopes the
+# ripples leave undrawn and EEVEE's samples find them, while a pixel's footprint holds up to
+# FACETS_SHARP facets, fading into the lobe by FACETS_MEAN (a pixel of N facets sparkles while
+# N p < 1, p the chance a facet meets the sun's 0.5 deg, ~1e-3 at the glitter path's middle).
+FACETS_SHARP = 4.0
+FACETS_MEAN = 1024.0
+# Where the half vector of the view and the sun lies within SUN_REACH of the undrawn slope
+# variance of the pixel's normal: ten standard deviations, since the sun is so much brighter
+# than the sky that the lobe's tail still shows it there; beyond, only the sky's light, which
+# facets finer than EEVEE's samples would make grainy.
+SUN_REACH = 100.0
 # `left_out_log` of a source that leaves nothing to the roughness: no band limit reaches it.
 NOT_LEFT_OUT = -100.0
 # The sea's roughness length (m): the wind at 12.5 m, where Cox and Munk measured it, from the
@@ -146,7 +160,8 @@ class Filtering:
     slopes per unit ln(wavelength) `density` below N and `above` (`layer_density`) above. The
     slope variance Cox and Munk measured for the wind beyond what the sea draws is added to the
     ripples where there are any (their bump grows by `ripple_gain`: near the camera the sun
-    glitters on them), else it is the `floor`; `ceiling` is the whole."""
+    glitters on them), else it is the `floor`; `ceiling` is the whole. Of the ripples' share,
+    the glint facets' normals draw `facet_variance`, the lobe the rest."""
 
     pixel_log: float
     distance_power: float
@@ -161,6 +176,10 @@ class Filtering:
     layer_top_log: float
     layer_density: float
     left_out_log: float = NOT_LEFT_OUT
+    facet_log: float = -100.0  # ln of a glint facet's size (m): FACETS_SHARP and FACETS_MEAN
+    facets_sharp_log: float = float(np.log(FACETS_SHARP))
+    facets_mean_log: float = float(np.log(FACETS_MEAN))
+    sun_reach: float = SUN_REACH
 
 
 def pixel_footprint(proj, width):
@@ -189,7 +208,8 @@ def filtering(proj, width, slopes, wind_speed):
                                    else slopes.left_out_log),
                      layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
                      layer_density=(slopes.density if slopes.layer_density is None
-                                    else slopes.layer_density))
+                                    else slopes.layer_density),
+                     facet_log=float(np.log(slopes.shortest / 2.0)))
 
 
 def footprint_log(f, distance, cos_view=1.0):
@@ -218,6 +238,24 @@ def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None):
                       + f.density * np.clip(lp - f.ripple_top_log, 0.0, top - f.ripple_top_log)
                       + f.layer_density * np.maximum(np.maximum(lp, left) - top, 0.0),
                       f.ceiling)
+
+
+def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0):
+    """The part of the ripples' undrawn slope variance s^2 the shader draws as the glint facets'
+    own normals (FACETS_SHARP; the rest is the lobe's roughness): all of it while the pixel's
+    footprint, L_p along the view by L_p cos across, holds at most FACETS_SHARP facets, none
+    from FACETS_MEAN, between them by ln N; and only where a facet may show the sun, its
+    share 1 - tan^2 / (SUN_REACH s^2) for the half vector of the view and the sun at tan^2
+    to the normal (elsewhere the sky's light alone, which facets would only make grainy)."""
+    lp = footprint_log(f, distance, cos_view)
+    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
+    facets = 2.0 * (lp - f.facet_log) + np.log(c)  # ln N
+    weight = np.clip((f.facets_mean_log - facets) / (f.facets_mean_log - f.facets_sharp_log),
+                     0.0, 1.0)
+    undrawn = f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
+    reach = np.clip(1.0 - np.asarray(sun_tan2, dtype=np.float64)
+                    / (f.sun_reach * undrawn + 1e-9), 0.0, 1.0)
+    return weight * reach * undrawn
 
 
 def layer_gain(band, lod, footprint_log_):

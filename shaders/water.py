@@ -8,7 +8,9 @@ and the ripples below the last band as a second bump. Waves shorter than a pixel
 the roughness of the reflection (Bruneton, Neyret and Holzschuch 2010; shading.Filtering): each
 bump is drawn as far as a pixel shows its waves, and the slope variance of the rest is the GGX
 lobe's, so the sky's reflection blurs and the sun lamp's highlight widens into a glitter path
-with distance, and nothing flickers as detail finer than a pixel would. F is, from above, the
+with distance, and nothing flickers as detail finer than a pixel would. Near the camera the
+ripples' undrawn slopes are the glint's facets instead (shading.facet_variance), each with its
+own normal, so the sun sparkles on them as on the sea. F is, from above, the
 mean Fresnel over those slopes (Bruneton's fit), which keeps a rough far sea darker than the sky
 at the horizon; from under water the exact unpolarised reflectance (Eq. 1.4) for IOR 1.333, in
 the form Blender's Fresnel node uses (total internal reflection when g^2 < 0). The sky is the
@@ -47,7 +49,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 19  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 20  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -114,6 +116,13 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Top Log", "NodeSocketFloat", -1.4),
     ("Slope Ceiling", "NodeSocketFloat", 0.0),
     ("Left Out Log", "NodeSocketFloat", -100.0),
+    # The glint's facets (shading.facet_variance): ln of their size, of the facets a pixel
+    # holds while it sparkles fully, and of those from which it shows the mean lobe.
+    ("Facet Log", "NodeSocketFloat", -100.0),
+    ("Facets Sharp Log", "NodeSocketFloat", 1.386),
+    ("Facets Mean Log", "NodeSocketFloat", 6.931),
+    ("Sun Reach", "NodeSocketFloat", 100.0),
+    ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 0.0)),  # toward the sun lamp; none: 0
     ("Layer Top Log", "NodeSocketFloat", -100.0),
     ("Layer Density", "NodeSocketFloat", 0.0),
     # The slope layer's bands (projgrid_addon/slope_layer.py): slopes from the material's
@@ -144,6 +153,43 @@ def node_group():
     group[TAG] = VERSION
     _build(group)
     return group
+
+
+def glint_facets(g, i, geo, normal, footprint, grazing, undrawn_ripples):
+    """(tilt, slope variance) of the glint's facets (shading.facet_variance): cells of Facet Log
+    on the sea (a Voronoi's, reshuffling with the ripples' time so the glitter twinkles), each
+    tilted by a normal slope of that variance per axis halved (Box-Muller from the cell's two
+    random values), added to the normal before it is normalised; none on back faces, nor
+    where no facet shows the sun (nor without a sun lamp: a Sun Direction of 0)."""
+    cell = g.math("EXPONENT", i["Facet Log"])
+    facets = g.math("MULTIPLY_ADD", g.math("SUBTRACT", footprint, i["Facet Log"]), 2.0,
+                    g.math("LOGARITHM", grazing, E))  # ln N
+    weight = g.math("DIVIDE", g.math("SUBTRACT", i["Facets Mean Log"], facets), g.math(
+        "SUBTRACT", i["Facets Mean Log"], i["Facets Sharp Log"]), clamp=True)
+    front = g.math("SUBTRACT", 1.0, geo["Backfacing"])
+    undrawn = g.math("MULTIPLY", i["Ripple Slopes"], undrawn_ripples)
+    half = g.vector("NORMALIZE", g.vector("ADD", geo["Incoming"], i["Sun Direction"]))
+    cos_half = g.math("MAXIMUM", g.vector("DOT_PRODUCT", normal, half), 0.01)
+    tan2 = g.math("SUBTRACT", g.math("DIVIDE", 1.0, g.math("MULTIPLY", cos_half, cos_half)), 1.0)
+    reach = g.math("SUBTRACT", 1.0, g.math("DIVIDE", tan2, g.math(
+        "MULTIPLY_ADD", i["Sun Reach"], undrawn, 1e-9)), clamp=True)
+    sun = g.math("MINIMUM", g.vector("LENGTH", i["Sun Direction"]), 1.0)
+    variance = g.math("MULTIPLY", g.math("MULTIPLY", g.math("MULTIPLY", weight, front),
+                                         g.math("MULTIPLY", reach, sun)), undrawn)
+    xyz = g.node("ShaderNodeSeparateXYZ", {0: geo["Position"]}).outputs
+    at = g.node("ShaderNodeCombineXYZ", {"X": xyz["X"], "Y": xyz["Y"],
+                                         "Z": g.math("MULTIPLY", i["Ripple Time"], cell)})
+    random = g.node("ShaderNodeSeparateColor", {0: g.node("ShaderNodeTexVoronoi", {
+        "Vector": at.outputs[0], "Scale": g.math("DIVIDE", 1.0, cell)},
+        voronoi_dimensions="3D").outputs["Color"]}).outputs
+    spread = g.math("MULTIPLY", g.math("SQRT", g.math("MULTIPLY", g.math("LOGARITHM", g.math(
+        "MAXIMUM", random[0], 1e-6), E), -2.0)), g.math("SQRT", g.math(
+            "MULTIPLY", variance, 0.5)))
+    angle = g.math("MULTIPLY", random[1], 2.0 * math.pi)
+    tilt = g.node("ShaderNodeCombineXYZ", {
+        "X": g.math("MULTIPLY", spread, g.math("COSINE", angle)),
+        "Y": g.math("MULTIPLY", spread, g.math("SINE", angle))}).outputs[0]
+    return tilt, variance
 
 
 def _build(group):
@@ -276,11 +322,13 @@ def _build(group):
     fresnel = g.mix(geo["Backfacing"], rough, fresnel)
 
     # The sky and the sun reflected by microfacets of that slope variance: a GGX lobe of
-    # alpha = sigma (alpha = Roughness^2), whose sun lamp highlight is the glint: sharp
-    # glitter on the drawn ripples near the camera, a widening path toward the horizon.
-    sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0),
-                                          "Roughness": g.math("POWER", slopes, 0.25),
-                                          "Normal": normal})
+    # alpha = sigma (alpha = Roughness^2), whose sun lamp highlight is the glint: sparkles on
+    # the facets near the camera, a widening path toward the horizon.
+    facet_slopes = glint_facets(g, i, geo, normal, footprint, grazing, ripple_out)
+    facet_normal = g.vector("NORMALIZE", g.vector("ADD", normal, facet_slopes[0]))
+    sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": g.math(
+        "POWER", g.math("MAXIMUM", g.math("SUBTRACT", slopes, facet_slopes[1]), 0.0), 0.25),
+                                          "Normal": facet_normal})
     reflection = sky
     # Refraction: the water colour seen from above, or with refraction on what lies below
     # through the water body; from below (back faces) the sky through Snell's window (the BSDF
@@ -725,7 +773,7 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0, layer=()):
+           foam_coverage=0.0, layer=(), sun_direction=None):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
@@ -733,7 +781,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
     (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
     where a pixel outgrows a whitecap; the slope layer's bands ((level, top log, bottom log)
-    each; none: no layer)."""
+    each; none: no layer); the unit vector toward the sun lamp (None: no sun, no glint)."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -754,6 +802,8 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
         "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
         "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
+        "Facet Log": filtering.facet_log, "Facets Sharp Log": filtering.facets_sharp_log,
+        "Facets Mean Log": filtering.facets_mean_log, "Sun Reach": filtering.sun_reach,
         "Left Out Log": filtering.left_out_log, "Layer Top Log": filtering.layer_top_log,
         "Layer Density": filtering.layer_density,
         "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
@@ -767,6 +817,9 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     for name, colour in (("Water Colour", water_colour), ("Foam Colour", foam_colour)):
         if name in inputs:
             assign(inputs[name], default_value=(*colour, 1.0))
+    if "Sun Direction" in inputs:
+        assign(inputs["Sun Direction"], default_value=tuple(
+            float(v) for v in (sun_direction if sun_direction is not None else (0.0, 0.0, 0.0))))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
     drive_by_frame(mat.node_tree, inputs["Ripple Time"], ripple_time_per_frame)
 

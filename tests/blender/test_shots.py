@@ -8,6 +8,7 @@ differences stay well inside; a wrong grid, a missing glint or a flipped Fresnel
 Regenerate after an intended change with PROJGRID_UPDATE_REFERENCES=1.
 """
 
+import dataclasses
 import math
 import os
 
@@ -108,6 +109,27 @@ def test_shot(name, tmp_path):
         assert below[:, 140:180].mean() > 2.0 * np.r_["1", below[:, :60], below[:, -60:]].mean()
     compare_with_reference(name, path)
     done_updating()
+
+
+def test_the_glitter_near_sparkles(extension, tmp_path, monkeypatch):
+    """Near the camera the sun glitters on the glint's facets (shading.facet_variance): in the
+    glitter path, sparkles (pixels a tenth of the display range brighter than their four
+    neighbours' mean) are at least three times as many as with the facets' slopes left to
+    the lobe, a smooth sheen, and at least 0.5 % of the pixels."""
+    shading = extension.projgrid_addon.shading
+    filtering = shading.filtering
+    sparkles = {}
+    for facets in (True, False):
+        if not facets:
+            monkeypatch.setattr(shading, "filtering", lambda *a: dataclasses.replace(
+                filtering(*a), facets_sharp_log=-100.0, facets_mean_log=-99.0))
+        bpy.ops.wm.read_homefile(use_empty=True)
+        (tmp_path / str(facets)).mkdir()
+        seen = luminance(read(render_shot("sun_glint", tmp_path / str(facets))))
+        path = seen[120:180, 120:200]  # the glitter path's near end
+        around = 0.25 * (path[:-2, 1:-1] + path[2:, 1:-1] + path[1:-1, :-2] + path[1:-1, 2:])
+        sparkles[facets] = float((path[1:-1, 1:-1] - around > 0.1).mean())
+    assert sparkles[True] > max(3.0 * sparkles[False], 0.005), sparkles
 
 
 SEA_STATES = range(11)  # Beaufort: every preset, calm to storm

@@ -2,6 +2,7 @@
 slope layer's gains, evaluated node by node in Python (a shader cannot be run without a
 render), against shading.unresolved_slope_variance and shading.layer_gain."""
 
+import itertools
 import math
 
 import bpy
@@ -47,7 +48,10 @@ class Evaluator:
         self.stubs = {"ShaderNodeAttribute": {"Fac": lod},
                       "ShaderNodeCameraData": {"View Distance": distance},
                       "ShaderNodeNewGeometry": {"Incoming": np.asarray(incoming, float),
-                                                "Normal": np.array([0.0, 0.0, 1.0])}}
+                                                "Normal": np.array([0.0, 0.0, 1.0]),
+                                                "Backfacing": 0.0},
+                      # the waves' bumps: a flat sea's normal (the glint's sun reach uses it)
+                      "ShaderNodeBump": {"Normal": np.array([0.0, 0.0, 1.0])}}
 
     def input(self, socket):
         if socket.is_linked:
@@ -77,6 +81,8 @@ class Evaluator:
             s = self.input(node.inputs["Scale"]) if node.operation == "SCALE" else None
             if node.operation == "DOT_PRODUCT":
                 return float(np.dot(a, b))
+            if node.operation == "LENGTH":
+                return float(np.linalg.norm(a))
             return VECTOR[node.operation](a, b, s)
         if kind == "ShaderNodeSeparateXYZ":
             return float(self.input(node.inputs[0])["XYZ".index(socket.name)])
@@ -105,31 +111,44 @@ def _settings(node, core):
         cos_floor=values["Cos Floor"], ripple_gain=1.0, density=values["Slope Density"],
         shortest_log=values["Shortest Log"], ripple_top_log=values["Ripple Top Log"],
         ceiling=values["Slope Ceiling"], layer_top_log=values["Layer Top Log"],
-        layer_density=values["Layer Density"], left_out_log=values["Left Out Log"])
+        layer_density=values["Layer Density"], left_out_log=values["Left Out Log"],
+        facet_log=values["Facet Log"], facets_sharp_log=values["Facets Sharp Log"],
+        facets_mean_log=values["Facets Mean Log"])
     bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
                                         values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
     return values, f, bands
 
 
-CASES = [(d, c, lod) for d in (3.0, 40.0, 400.0, 4000.0) for c in (0.05, 0.4, 1.0)
+CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0) for c in (0.05, 0.4, 1.0)
          for lod in (-6.0, -1.5, 0.7, 3.0)]
 
 
 def test_the_roughness_is_the_core_s(water):
+    """The lobe's roughness is the slope variance not drawn, less what the glint's facets
+    draw of it (shading.facet_variance), which near the camera is not nothing."""
     node, core = water
     values, f, _ = _settings(node, core)
     assert f.layer_density > 0.0 and f.density > 0.0  # the spectral sea's: not a trivial case
     tree = node.node_tree
     glossy = next(n for n in tree.nodes if n.bl_idname in (
         "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic") and n.inputs["Roughness"].is_linked)
-    seen = set()
-    for d, c, lod in CASES:
-        ev = Evaluator(values, lod, d, (math.sqrt(1.0 - c * c), 0.0, c))
+    seen, facets = set(), set()
+    for (d, c, lod), sun in zip(CASES, itertools.cycle((0.0, 0.3, 1.0, None)), strict=False):
+        # the sun where the view's mirror is (a facet as flat as the sea shows it), `sun`
+        # radians above it (the half vector sun / 2 from the normal), or no sun lamp
+        s = math.sqrt(1.0 - c * c)
+        toward = (0.0, 0.0, 0.0) if sun is None else (
+            c * math.sin(sun) - s * math.cos(sun), 0.0, c * math.cos(sun) + s * math.sin(sun))
+        ev = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c))
         drawn = ev.input(glossy.inputs["Roughness"]) ** 4
-        want = float(core.shading.unresolved_slope_variance(f, d, c, lod))
-        assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod)
+        facet = (0.0 if sun is None else
+                 float(core.shading.facet_variance(f, d, c, math.tan(sun / 2.0) ** 2)))
+        want = float(core.shading.unresolved_slope_variance(f, d, c, lod)) - facet
+        assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod, sun)
         seen.add(round(want, 6))
+        facets.add(round(facet, 6))
     assert len(seen) > 10  # the cases reach different parts of the formula
+    assert len(facets) > 2 and max(facets) > 0.1 * f.ripple  # and the facets' share
 
 
 def test_the_slope_layer_s_gains_are_the_core_s(water):

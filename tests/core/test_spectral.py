@@ -708,3 +708,38 @@ def test_the_detail_noise_draws_only_the_bands_above_the_layer():
     m0 = spectrum.moments(source.state)[0]
     assert sigma**2 == pytest.approx(m0 * sum(shares[first:slope_layer.LAYER_FIRST]), rel=1e-6)
     assert source.shader_detail(slope_layer.LAYER_FIRST, 3).height == 0.0
+
+
+def test_the_glint_s_facets():
+    """Half the ripples' shortest wave; a pixel whose footprint (a pixel's angle times the
+    distance across, 1 / cos that along the view) holds at most FACETS_SHARP of them draws all
+    the ripples' undrawn slopes as facets, one holding FACETS_MEAN or more none (the lobe
+    then has them), fewer as the pixel holds more."""
+    proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+    source = SpectralField(SeaState(wind_speed=7.0))
+    f = shading.filtering(proj, 960, source.slopes, 7.0)
+    cell = source.slopes.shortest / 2.0
+    assert np.exp(f.facet_log) == pytest.approx(cell)
+    pixel = 2.0 / (proj[0, 0] * 960)
+    d = np.geomspace(1.0, 3000.0, 400)
+    for c in (1.0, 0.3, 0.05):
+        facets = (pixel * d) ** 2 / max(c, 1.0 / shading.GRAZING) / cell**2
+        undrawn = f.ripple * shading.undrawn_share(f.ripple_top_log, f.shortest_log,
+                                                    shading.footprint_log(f, d, c))
+        drawn = shading.facet_variance(f, d, c)
+        sharp, mean = facets <= shading.FACETS_SHARP, facets >= shading.FACETS_MEAN
+        assert drawn[sharp] == pytest.approx(undrawn[sharp])
+        assert np.all(drawn[mean] == 0.0) and mean.any()
+        between = ~sharp & ~mean & (undrawn > 0.0)
+        assert between.any() and np.all(drawn[between] < undrawn[between])
+        assert np.all(np.diff(drawn[between] / undrawn[between]) <= 1e-12)
+    # only where a facet may show the sun: the half vector within SUN_REACH variances
+    d, c = 20.0, 0.3
+    full = shading.facet_variance(f, d, c)
+    undrawn = f.ripple * shading.undrawn_share(f.ripple_top_log, f.shortest_log,
+                                                shading.footprint_log(f, d, c))
+    assert full > 0.0
+    assert shading.facet_variance(f, d, c, 0.5 * shading.SUN_REACH * undrawn) == (
+        pytest.approx(0.5 * full))
+    assert shading.facet_variance(f, d, c, shading.SUN_REACH * undrawn) == pytest.approx(
+        0.0, abs=1e-9 * full)
