@@ -238,19 +238,25 @@ class HeightField:
         `shader_detail`). Without them the wind's slopes all went into the roughness at every
         distance (shading.filtering) and the noise's sea was blurred even at the camera."""
         top = self.wavelength(self.octaves)
-        std = (self._gain(self.octaves) * _noise.NOISE_STD
-               * np.sqrt(sum(0.25**j for j in range(shading.RIPPLE_OCTAVES))))
+        octaves = shading.RIPPLE_OCTAVES
+        std = (self._ripple_gain() * _noise.NOISE_STD
+               * np.sqrt(sum(0.25**j for j in range(octaves))))
         return shading.Detail(first=self.octaves, scale=1.0 / top,
-                              octaves=float(shading.RIPPLE_OCTAVES - 1), roughness=0.5,
-                              height=float(std / shading.NOISE_FAC_STD),
+                              octaves=float(octaves - 1), roughness=0.5,
+                              height=float(std / shading.noise_fac_std(octaves - 1, 0.5)),
                               time_rate=float(self.time_coordinate(self.octaves, 1.0))), top
 
     def _gain(self, octave):
-        """Octave i's height over the noise's, amplitude alpha^i over the noise's bound (the
-        ripples' first: i = octaves); none without octaves, so a flat sea has no ripples."""
+        """Octave i's height over the noise's: amplitude alpha^i over the noise's bound."""
+        return self.amplitude / _noise.NOISE_BOUND * self.roughness**octave
+
+    def _ripple_gain(self):
+        """The ripples' first octave's: the last octave's times alpha, at most halving (so at
+        alpha 0.5 the octave a noise of one more would add; no steeper than the last octave
+        above it); none without octaves, so a flat sea has no ripples."""
         if self.octaves == 0:
             return 0.0
-        return self.amplitude / _noise.NOISE_BOUND * self.roughness**octave
+        return self._gain(self.octaves - 1) * min(self.roughness, 0.5)
 
     def travel(self, octave, t):
         """How far octave i has travelled along the wind at time t: (dx, dy) in metres."""
@@ -266,13 +272,13 @@ class HeightField:
     def slopes(self):
         """The slope variance of the octaves and the ripples (shading.Slopes): octave i's slope
         is its gain times the noise's gradient per lattice unit over its wavelength; each
-        ripple octave has the last octave's slopes, half its height over half its wavelength."""
+        ripple octave the first's (`_ripple_gain`), half its height over half its wavelength."""
         def variance(gain, wavelength):
             return (gain * _noise.GRADIENT_RMS / wavelength) ** 2
 
         octaves = [variance(self._gain(i), self.wavelength(i)) for i in range(self.octaves)]
         top = self.wavelength(self.octaves)
-        ripple = shading.RIPPLE_OCTAVES * variance(self._gain(self.octaves), top)
+        ripple = shading.RIPPLE_OCTAVES * variance(self._ripple_gain(), top)
         return shading.Slopes(total=float(sum(octaves) + ripple),
                               density=float(octaves[-1] / np.log(2.0)) if octaves else 0.0,
                               ripple=float(ripple), ripple_top=float(top),

@@ -89,17 +89,18 @@ PIXELS = 1.0
 GRAZING = 9.0
 # Sun glint from discrete facets (Jakob et al. 2014; Zirr and Kaplanyan 2016): each facet that
 # meets the sun's reflection slope shows the whole sun, so a pixel holding few facets sparkles
-# and only one holding many shows the mean lobe. The facets are half the ripples' shortest wave
-# (about the capillary waves' 1.7 cm); the shader gives each its own normal from the slopes the
-# ripples leave undrawn and EEVEE's samples find them, while a pixel's footprint holds up to
-# FACETS_SHARP facets, fading into the lobe by FACETS_MEAN (a pixel of N facets sparkles while
-# N p < 1, p the chance a facet meets the sun's 0.5 deg, ~1e-3 at the glitter path's middle).
+# and only one holding many shows the mean lobe. The facets are half the ripples' shortest
+# wave (1.6 cm for the spectrum: the capillary waves' size); the shader gives each its own
+# normal from the slopes the ripples leave undrawn and EEVEE's samples find them, while a
+# pixel's footprint holds up to FACETS_SHARP facets, fading into the lobe by FACETS_MEAN (a
+# pixel of N facets sparkles while N p < 1, p the chance a facet meets the sun's 0.5 deg,
+# ~1e-3 at the glitter path's middle).
 FACETS_SHARP = 4.0
 FACETS_MEAN = 1024.0
-# Where the half vector of the view and the sun lies within SUN_REACH of the undrawn slope
-# variance of the pixel's normal: ten standard deviations, since the sun is so much brighter
-# than the sky that the lobe's tail still shows it there; beyond, only the sky's light, which
-# facets finer than EEVEE's samples would make grainy.
+# Facets only where the half vector of the view and the sun lies within SUN_REACH times the
+# undrawn slope variance of the pixel's normal (a tangent ten times its deviation): the sun is
+# so much brighter than the sky that the lobe's tail still shows it there; beyond is only the
+# sky's light, which facets finer than EEVEE's samples would make grainy.
 SUN_REACH = 100.0
 # `left_out_log` of a source that leaves nothing to the roughness: no band limit reaches it.
 NOT_LEFT_OUT = -100.0

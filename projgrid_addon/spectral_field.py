@@ -472,11 +472,10 @@ class SpectralField:
         """The waves shorter than the last band, which no tile holds, down
         shading.RIPPLE_OCTAVES octaves, as shading detail (shading.Detail, `first` unused;
         drawn where a pixel shows them, shading.Filtering), and the longest of them (m). Their
-        height is the
-        spectrum's own over that range (σ² = α/4k² under its k⁻⁴ tail; the bump's distance is
-        σ over the noise's own spread), each octave half the one before. Without them the near
-        water, whose every band the geometry holds, had no detail finer than 25 cm and looked
-        glassy."""
+        height is the spectrum's own over that range (σ² = α/4k² under its k⁻⁴ tail; the
+        bump's distance is σ over the noise's own spread), each octave half the one before.
+        Without them the near water, whose every band the geometry holds, had no detail finer
+        than 25 cm and looked glassy."""
         top = bands()[-1][0]
         k = 2.0 * np.pi / top
         octaves = shading.RIPPLE_OCTAVES
@@ -485,7 +484,8 @@ class SpectralField:
                                             + spectrum.swell_spectrum(w, self.state), w))
         detail = shading.Detail(first=BANDS, scale=1.0 / top, octaves=float(octaves - 1),
                                 roughness=0.5,
-                                height=np.sqrt(variance) / shading.NOISE_FAC_STD,
+                                height=np.sqrt(variance)
+                                / shading.noise_fac_std(octaves - 1, 0.5),
                                 time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * top))))
         return detail, float(top)
 

@@ -118,7 +118,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Left Out Log", "NodeSocketFloat", -100.0),
     # The glint's facets (shading.facet_variance): ln of their size, of the facets a pixel
     # holds while it sparkles fully, and of those from which it shows the mean lobe.
-    ("Facet Log", "NodeSocketFloat", -100.0),
+    ("Facet Log", "NodeSocketFloat", -4.17),
     ("Facets Sharp Log", "NodeSocketFloat", 1.386),
     ("Facets Mean Log", "NodeSocketFloat", 6.931),
     ("Sun Reach", "NodeSocketFloat", 100.0),

@@ -111,25 +111,36 @@ def test_shot(name, tmp_path):
     done_updating()
 
 
+def local_detail(img):
+    """How much each pixel differs from its four neighbours' mean."""
+    around = 0.25 * (img[:-2, 1:-1] + img[2:, 1:-1] + img[1:-1, :-2] + img[1:-1, 2:])
+    return img[1:-1, 1:-1] - around
+
+
 def test_the_glitter_near_sparkles(extension, tmp_path, monkeypatch):
     """Near the camera the sun glitters on the glint's facets (shading.facet_variance): in the
     glitter path, sparkles (pixels a tenth of the display range brighter than their four
     neighbours' mean) are at least three times as many as with the facets' slopes left to
-    the lobe, a smooth sheen, and at least 0.5 % of the pixels."""
+    the lobe, a smooth sheen, and at least 0.5 % of the pixels; and only where a facet may
+    show the sun: with the sun behind the camera the picture is the one without them (facets
+    there would only make the sky's reflection grainy)."""
     shading = extension.projgrid_addon.shading
     filtering = shading.filtering
-    sparkles = {}
+    sparkles, away = {}, {}
     for facets in (True, False):
         if not facets:
             monkeypatch.setattr(shading, "filtering", lambda *a: dataclasses.replace(
                 filtering(*a), facets_sharp_log=-100.0, facets_mean_log=-99.0))
-        bpy.ops.wm.read_homefile(use_empty=True)
         (tmp_path / str(facets)).mkdir()
-        seen = luminance(read(render_shot("sun_glint", tmp_path / str(facets))))
-        path = seen[120:180, 120:200]  # the glitter path's near end
-        around = 0.25 * (path[:-2, 1:-1] + path[2:, 1:-1] + path[1:-1, :-2] + path[1:-1, 2:])
-        sparkles[facets] = float((path[1:-1, 1:-1] - around > 0.1).mean())
+        shots = {}
+        for name in ("sun_glint", "horizon"):
+            bpy.ops.wm.read_homefile(use_empty=True)
+            shots[name] = luminance(read(render_shot(name, tmp_path / str(facets))))
+        path = shots["sun_glint"][120:180, 120:200]  # the glitter path's near end
+        sparkles[facets] = float((local_detail(path) > 0.1).mean())
+        away[facets] = shots["horizon"]
     assert sparkles[True] > max(3.0 * sparkles[False], 0.005), sparkles
+    assert np.abs(away[True] - away[False]).mean() < 1e-4
 
 
 SEA_STATES = range(11)  # Beaufort: every preset, calm to storm

@@ -30,6 +30,7 @@ MATH = {
     "SQRT": lambda a, b, c: math.sqrt(a) if a > 0.0 else 0.0,
     "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
     "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
+    "COSINE": lambda a, b, c: math.cos(a), "SINE": lambda a, b, c: math.sin(a),
 }
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
@@ -37,6 +38,9 @@ VECTOR = {
     "MINIMUM": lambda a, b, s: np.minimum(a, b),
     "NORMALIZE": lambda a, b, s: a / np.linalg.norm(a) if np.linalg.norm(a) else a * 0.0,
 }
+
+
+FACET_RANDOM = (0.3, 0.2)
 
 
 class Evaluator:
@@ -51,7 +55,9 @@ class Evaluator:
                                                 "Normal": np.array([0.0, 0.0, 1.0]),
                                                 "Backfacing": 0.0},
                       # the waves' bumps: a flat sea's normal (the glint's sun reach uses it)
-                      "ShaderNodeBump": {"Normal": np.array([0.0, 0.0, 1.0])}}
+                      "ShaderNodeBump": {"Normal": np.array([0.0, 0.0, 1.0])},
+                      # the glint facet's cell: its two random values
+                      "ShaderNodeTexVoronoi": {"Color": np.array([*FACET_RANDOM, 0.5])}}
 
     def input(self, socket):
         if socket.is_linked:
@@ -84,6 +90,8 @@ class Evaluator:
             if node.operation == "LENGTH":
                 return float(np.linalg.norm(a))
             return VECTOR[node.operation](a, b, s)
+        if kind == "ShaderNodeSeparateColor":
+            return float(self.input(node.inputs[0])[("Red", "Green", "Blue").index(socket.name)])
         if kind == "ShaderNodeSeparateXYZ":
             return float(self.input(node.inputs[0])["XYZ".index(socket.name)])
         if kind == "ShaderNodeCombineXYZ":
@@ -113,7 +121,7 @@ def _settings(node, core):
         ceiling=values["Slope Ceiling"], layer_top_log=values["Layer Top Log"],
         layer_density=values["Layer Density"], left_out_log=values["Left Out Log"],
         facet_log=values["Facet Log"], facets_sharp_log=values["Facets Sharp Log"],
-        facets_mean_log=values["Facets Mean Log"])
+        facets_mean_log=values["Facets Mean Log"], sun_reach=values["Sun Reach"])
     bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
                                         values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
     return values, f, bands
@@ -145,6 +153,14 @@ def test_the_roughness_is_the_core_s(water):
                  float(core.shading.facet_variance(f, d, c, math.tan(sun / 2.0) ** 2)))
         want = float(core.shading.unresolved_slope_variance(f, d, c, lod)) - facet
         assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod, sun)
+        # the glossy's normal: the flat sea's tilted by the facet's slopes (Box-Muller from
+        # its cell's two random values, facet / 2 per axis)
+        u, w = FACET_RANDOM
+        slope = math.sqrt(-2.0 * math.log(u) * facet / 2.0)
+        tilt = np.array([slope * math.cos(2 * math.pi * w), slope * math.sin(2 * math.pi * w),
+                         1.0])
+        assert ev.input(glossy.inputs["Normal"]) == pytest.approx(
+            tilt / np.linalg.norm(tilt), abs=1e-6), (d, c, lod, sun)
         seen.add(round(want, 6))
         facets.add(round(facet, 6))
     assert len(seen) > 10  # the cases reach different parts of the formula

@@ -481,6 +481,11 @@ def test_the_noise_s_ripples_carry_on_its_fractal():
     assert slopes.ripple == pytest.approx(
         slope_variance(more) - slope_variance(source), rel=0.10)
     assert slopes.shortest == pytest.approx(longest / 2**shading.RIPPLE_OCTAVES)
+    # a steeper fractal's ripples halve from its last octave: no steeper than it
+    for r in (0.8, 1.5):
+        steep = HeightField(amplitude=0.8, wave_scale=30.0, octaves=6, roughness=r)
+        last = steep.slopes.density * np.log(2.0)  # the last octave's slope variance
+        assert steep.slopes.ripple == pytest.approx(shading.RIPPLE_OCTAVES * last)
     flat = HeightField(octaves=0)
     assert flat.ripple()[0].height == 0.0 and flat.slopes.ripple == 0.0
     assert shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960,
