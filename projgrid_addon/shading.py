@@ -217,8 +217,12 @@ def footprint_log(f, distance, cos_view=1.0):
     """ln L_p: the shortest wave drawn at `distance` (m), the view at `cos_view` to the mean
     sea plane (the shader's)."""
     d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
-    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
-    return f.distance_power * np.log(d) - np.log(c) + f.pixel_log
+    return f.distance_power * np.log(d) - np.log(_view_cos(f, cos_view)) + f.pixel_log
+
+
+def _view_cos(f, cos_view):
+    """The view's |cos| to the mean sea plane, at least cos_floor (the footprint's stretch)."""
+    return np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
 
 
 def undrawn_share(top_log, bottom_log, footprint_log_):
@@ -249,8 +253,7 @@ def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0):
     share 1 - tan^2 / (SUN_REACH s^2) for the half vector of the view and the sun at tan^2
     to the normal (elsewhere the sky's light alone, which facets would only make grainy)."""
     lp = footprint_log(f, distance, cos_view)
-    c = np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
-    facets = 2.0 * (lp - f.facet_log) + np.log(c)  # ln N
+    facets = 2.0 * (lp - f.facet_log) + np.log(_view_cos(f, cos_view))  # ln N
     weight = np.clip((f.facets_mean_log - facets) / (f.facets_mean_log - f.facets_sharp_log),
                      0.0, 1.0)
     undrawn = f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)

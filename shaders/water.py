@@ -155,19 +155,20 @@ def node_group():
     return group
 
 
-def glint_facets(g, i, geo, normal, footprint, grazing, undrawn_ripples):
+def glint_facets(g, i, geo, normal, footprint, log_cos, undrawn):
     """(tilt, slope variance) of the glint's facets (shading.facet_variance): cells of Facet Log
     on the sea (a Voronoi's, reshuffling with the ripples' time so the glitter twinkles), each
     tilted by a normal slope of that variance per axis halved (Box-Muller from the cell's two
     random values), added to the normal before it is normalised; none on back faces, nor
-    where no facet shows the sun (nor without a sun lamp: a Sun Direction of 0)."""
+    where no facet shows the sun (nor without a sun lamp: a Sun Direction of 0). `log_cos`:
+    ln of the view's cos to the sea plane as the footprint takes it; `undrawn`: the ripples'
+    undrawn slope variance."""
     cell = g.math("EXPONENT", i["Facet Log"])
     facets = g.math("MULTIPLY_ADD", g.math("SUBTRACT", footprint, i["Facet Log"]), 2.0,
-                    g.math("LOGARITHM", grazing, E))  # ln N
+                    log_cos)  # ln N
     weight = g.math("DIVIDE", g.math("SUBTRACT", i["Facets Mean Log"], facets), g.math(
         "SUBTRACT", i["Facets Mean Log"], i["Facets Sharp Log"]), clamp=True)
     front = g.math("SUBTRACT", 1.0, geo["Backfacing"])
-    undrawn = g.math("MULTIPLY", i["Ripple Slopes"], undrawn_ripples)
     half = g.vector("NORMALIZE", g.vector("ADD", geo["Incoming"], i["Sun Direction"]))
     cos_half = g.math("MAXIMUM", g.vector("DOT_PRODUCT", normal, half), 0.01)
     tan2 = g.math("SUBTRACT", g.math("DIVIDE", 1.0, g.math("MULTIPLY", cos_half, cos_half)), 1.0)
@@ -210,11 +211,11 @@ def _build(group):
     distance = g.math("MAXIMUM", g.node("ShaderNodeCameraData").outputs["View Distance"], 1e-6)
     # Against the mean sea plane, not the waves' faces (those facing the camera would stay
     # sharp and those facing away go milky), and at most shading.GRAZING times.
-    grazing = g.math("MAXIMUM", g.math("ABSOLUTE", g.node(
-        "ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]), i["Cos Floor"])
+    log_cos = g.math("LOGARITHM", g.math("MAXIMUM", g.math("ABSOLUTE", g.node(
+        "ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]), i["Cos Floor"]), E)
     footprint = g.math("SUBTRACT", g.math("MULTIPLY_ADD", i["Distance Power"],
                                           g.math("LOGARITHM", distance, E), i["Pixel Log"]),
-                       g.math("LOGARITHM", grazing, E))
+                       log_cos)
 
     def undrawn(top, bottom):  # shading.undrawn_share
         return g.math("DIVIDE", g.math("SUBTRACT", footprint, bottom),
@@ -278,7 +279,8 @@ def _build(group):
     # The layer tilts the bumped normal after the bumps: a Bump node fed a normal sampled from
     # an image hangs EEVEE's renders of more than one sample (5.2, on the CPU).
     normal = g.vector("NORMALIZE", g.vector("ADD", normal, tilt))
-    ripple_out = undrawn(i["Ripple Top Log"], i["Shortest Log"])
+    undrawn_ripples = g.math("MULTIPLY", i["Ripple Slopes"],
+                             undrawn(i["Ripple Top Log"], i["Shortest Log"]))
 
     # The slope variance of the waves not drawn here: the microfacets' roughness
     # (shading.Filtering). Above the ripples, those shorter than the footprint; above the
@@ -293,7 +295,7 @@ def _build(group):
                                      layer_top), 0.0)
     slopes = g.math("MINIMUM", g.math("MULTIPLY_ADD", i["Layer Density"], above, g.math(
         "MULTIPLY_ADD", i["Slope Density"], below, g.math(
-            "MULTIPLY_ADD", i["Ripple Slopes"], ripple_out, i["Slope Floor"]))),
+            "ADD", undrawn_ripples, i["Slope Floor"]))),
         i["Slope Ceiling"])
 
     # Exact Fresnel (Eq. 1.4), as Blender's fresnel_dielectric_cos: seen from under water.
@@ -324,7 +326,7 @@ def _build(group):
     # The sky and the sun reflected by microfacets of that slope variance: a GGX lobe of
     # alpha = sigma (alpha = Roughness^2), whose sun lamp highlight is the glint: sparkles on
     # the facets near the camera, a widening path toward the horizon.
-    facet_slopes = glint_facets(g, i, geo, normal, footprint, grazing, ripple_out)
+    facet_slopes = glint_facets(g, i, geo, normal, footprint, log_cos, undrawn_ripples)
     facet_normal = g.vector("NORMALIZE", g.vector("ADD", normal, facet_slopes[0]))
     sky = g.node("ShaderNodeBsdfGlossy", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": g.math(
         "POWER", g.math("MAXIMUM", g.math("SUBTRACT", slopes, facet_slopes[1]), 0.0), 0.25),
