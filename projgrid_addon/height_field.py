@@ -2,12 +2,13 @@
 
     f_HF(x, y, t) = amplitude * sum_i  alpha^i * w_i * noise_i((p - c_i t d) 2^i / scale, z_i(t))
 
-Octave i has wavelength lambda_i = scale / 2^i and travels along the wind's direction d at the
-deep-water phase speed of its wavelength, c_i = sqrt(g lambda_i / (2 pi)), so long waves outrun
-short ones as on the sea (dispersion), while it changes shape slowly, at EVOLUTION times the
-deep-water frequency sqrt(g / (2 pi lambda_i)); `speed` scales both. Each octave has its own
-hash key. With choppiness lambda, each point also moves toward the crests by lambda grad h_i /
-k_i per octave (k_i = 2 pi / lambda_i: Tessendorf's choppy displacement of a wave).
+Octave i's lattice period is scale / 2^i; its waves are noise.WAVELENGTH (1.7) times as long,
+lambda_i (2 pi over the noise's rms wavenumber), and it travels along the wind's direction d at
+their deep-water phase speed, c_i = sqrt(g lambda_i / (2 pi)), so long waves outrun short ones
+as on the sea (dispersion), while it changes shape slowly, at EVOLUTION times the deep-water
+frequency sqrt(g / (2 pi lambda_i)); `speed` scales both. Each octave has its own hash key.
+With choppiness lambda, each point also moves toward the crests by lambda grad h_i / k_i per
+octave (k_i = 2 pi / lambda_i: Tessendorf's choppy displacement of a wave).
 w_i in [0, 1] is the band limit (§3.2, band_limit.py): 1 where the grid can carry octave i, fading
 to 0 over one octave as a mip-map would. noise_i is normalised so that |noise_i| <= 1, which makes
 `bound` a true bound of every height either path returns.
@@ -187,24 +188,24 @@ class HeightField:
                 gx, gy = (self._tiles.texture(i, z, 1.0, kind).view(np.float32)[0::4]
                           for kind in (1, 2))
                 steepest = float(np.hypot(gx, gy).max())
-            total += self.choppiness * gain * steepest / (2.0 * np.pi)
+            total += self.choppiness * gain * steepest * _noise.WAVELENGTH / (2.0 * np.pi)
         return total
 
     first_level = 0.0  # the band limit below which no octave is in the geometry
 
     @property
     def longest_wave(self):
-        return self.wave_scale if self.octaves and self.amplitude else 0.0
+        return self.wavelength(0) if self.octaves and self.amplitude else 0.0
 
     @property
     def foam_span(self):
         """Metres across the sea pattern whitecaps are calibrated on (effects.foam_thresholds):
-        one tile of the first octave, 32 wavelengths."""
-        return 32.0 * self.wave_scale
+        one tile of the first octave, noise.PERIOD lattice periods."""
+        return _noise.PERIOD * self.wave_scale
 
     def whole_level(self, wavelength):
         """The band limit from which waves of `wavelength` (m) are whole in the geometry."""
-        return float(np.log2(self.wave_scale / wavelength) + 1.0)
+        return float(np.log2(self.wavelength(0) / wavelength) + 1.0)
 
     def foam_levels(self):
         """The band limits at which the foam is calibrated: octave i is whole from lod i + 1."""
@@ -224,7 +225,7 @@ class HeightField:
         as high as they are: their standard deviation over the noise texture's."""
         std = self.amplitude / _noise.NOISE_BOUND * _noise.NOISE_STD * np.sqrt(
             sum(self.roughness ** (2 * i) for i in range(first, first + count)))
-        return shading.Detail(first=int(first), scale=1.0 / self.wavelength(first),
+        return shading.Detail(first=int(first), scale=1.0 / self.lattice(first),
                               octaves=float(max(count - 1, 0)),
                               roughness=min(self.roughness, 1.0),
                               height=float(std / shading.noise_fac_std(
@@ -237,7 +238,7 @@ class HeightField:
         the shader's ripples have; every octave of the noise's own reaches the shader through
         `shader_detail`). Without them the wind's slopes all went into the roughness at every
         distance (shading.filtering) and the noise's sea was blurred even at the camera."""
-        top = self.wavelength(self.octaves)
+        top = self.lattice(self.octaves)
         octaves = shading.RIPPLE_OCTAVES
         std = (self._ripple_gain() * _noise.NOISE_STD
                * np.sqrt(sum(0.25**j for j in range(octaves))))
@@ -276,8 +277,8 @@ class HeightField:
         def variance(gain, wavelength):
             return (gain * _noise.GRADIENT_RMS / wavelength) ** 2
 
-        octaves = [variance(self._gain(i), self.wavelength(i)) for i in range(self.octaves)]
-        top = self.wavelength(self.octaves)
+        octaves = [variance(self._gain(i), self.lattice(i)) for i in range(self.octaves)]
+        top = self.lattice(self.octaves)
         ripple = shading.RIPPLE_OCTAVES * variance(self._ripple_gain(), top)
         return shading.Slopes(total=float(sum(octaves) + ripple),
                               density=float(octaves[-1] / np.log(2.0)) if octaves else 0.0,
@@ -287,15 +288,23 @@ class HeightField:
     @property
     def spread(self):
         """(standard deviation of f_HF, root mean square of the choppy displacement), m: the
-        octaves are independent noises, so their variances add (noise.NOISE_STD,
-        noise.GRADIENT_RMS per lattice unit, lambda / (2 pi) per lattice unit of slope)."""
+        octaves are independent noises, so their variances add (noise.NOISE_STD); each octave's
+        displacement, lambda grad h / k, is lambda times its height's (k its waves' rms
+        wavenumber, noise.WAVELENGTH)."""
         gains = self.amplitude / _noise.NOISE_BOUND * np.sqrt(
             sum(self.roughness ** (2 * i) for i in range(self.octaves)))
         return (float(gains * _noise.NOISE_STD),
-                float(gains * self.choppiness * _noise.GRADIENT_RMS / (2.0 * np.pi)))
+                float(gains * self.choppiness * _noise.GRADIENT_RMS * _noise.WAVELENGTH
+                      / (2.0 * np.pi)))
+
+    def lattice(self, octave):
+        """Octave i's lattice period, scale / 2^i (m): the unit the band limit and the filtering
+        count in."""
+        return self.wave_scale / 2.0**octave
 
     def wavelength(self, octave):
-        return self.wave_scale / 2.0**octave
+        """The length of octave i's waves (m): noise.WAVELENGTH lattice periods."""
+        return self.lattice(octave) * _noise.WAVELENGTH
 
     def time_coordinate(self, octave, t):
         """Noise time coordinate of an octave: EVOLUTION times the deep-water frequency of its
@@ -370,10 +379,11 @@ class HeightField:
         into `side` (2 x rows x columns) if given."""
         for i, gain, band, weighted in jobs:
             z = self.time_coordinate(i, t)
-            inv = 1.0 / self.wavelength(i)
+            inv = 1.0 / self.lattice(i)
             shift = self.travel(i, t)
-            # lambda grad h / k: the gradient per lattice unit times gain lambda / (2 pi).
-            chop = gain * self.choppiness / (2.0 * np.pi)
+            # lambda grad h / k: the gradient per lattice unit times gain lambda / k, k the
+            # waves' wavenumber per lattice unit.
+            chop = gain * self.choppiness * _noise.WAVELENGTH / (2.0 * np.pi)
             if self._tiles is None:
                 xs, ys = (xy2[0, band] - shift[0]) * inv, (xy2[1, band] - shift[1]) * inv
                 key = _noise.octave_key(self.seed, i)

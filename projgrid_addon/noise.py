@@ -20,6 +20,10 @@ NOISE_BOUND = 1.0364
 # over 200,000 random points of three seeds; tests/core/test_height_field.py re-measures them.
 NOISE_STD = 0.269
 GRADIENT_RMS = 0.994
+# The length, in lattice units, of the waves the noise draws: 2 pi over its rms wavenumber
+# sqrt(m2 / m0) = GRADIENT_RMS / NOISE_STD, so a sinusoid of that wavelength is as steep for its
+# height (1.70: a lattice cell is not a wave).
+WAVELENGTH = 2.0 * np.pi * NOISE_STD / GRADIENT_RMS
 
 _GRADIENTS = np.array(
     [[1, 1, 0], [-1, 1, 0], [1, -1, 0], [-1, -1, 0],

@@ -14,6 +14,7 @@ import numpy as np
 
 from . import spectrum
 from .height_field import HeightField
+from .noise import WAVELENGTH
 from .validation import integer
 
 # force: (name, wind m/s, WMO probable wave height m, swell height m, swell period s)
@@ -67,14 +68,15 @@ def noise_waves(wind_speed, fetch=0.0, spectrum_name="JONSWAP", octaves=8, rough
     """(amplitude, wave_scale) of the noise source of `octaves` octaves and `roughness` for
     the wind's sea (m/s at 10 m) over `fetch` (m; 0 fully developed) by `spectrum_name`'s
     spectrum: the same sea as the spectrum's (Horvath 2015), its significant height 4 standard
-    deviations of the noise (HeightField.spread) and its peak wavelength the first octave's."""
+    deviations of the noise (HeightField.spread) and its peak wavelength the length of the
+    first octave's waves (noise.WAVELENGTH lattice periods)."""
     state = spectrum.SeaState(wind_speed=float(wind_speed), fetch=float(fetch),
                               spectrum=spectrum_name)
     sigma = HeightField(amplitude=1.0, octaves=octaves, roughness=roughness,
                         method="exact").spread[0]
     height = spectrum.significant_height(state)
     return (float(height / (4.0 * sigma)) if sigma > 0.0 else 0.0,
-            float(max(spectrum.peak_wavelength(state), WAVE_SCALE_MIN)))
+            float(max(spectrum.peak_wavelength(state) / WAVELENGTH, WAVE_SCALE_MIN)))
 
 
 def swell_direction(wind_direction):

@@ -116,7 +116,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
         "then unused)")
     amplitude: _float("Amplitude", "Height of the largest waves (the bound is the sum over "
                       "octaves)", 0.5, 0.0, 1e4, 10.0, "LENGTH")
-    wave_scale: _float("Wave Scale", "Wavelength of the first octave", 40.0, WAVE_SCALE_MIN,
+    wave_scale: _float("Wave Scale", "Cell size of the first octave's noise (its waves are "
+                       "1.7 times as long)", 40.0, WAVE_SCALE_MIN,
                        1e5, 500.0, "LENGTH")
     octaves: _int("Octaves", "Noise octaves, each half the wavelength of the one before",
                   8, 0, 24)

@@ -53,6 +53,9 @@ def test_spread_is_the_field_s():
     x, y = np.random.default_rng(9).uniform(0.0, 4e3, (2, 100_000))
     h, d = hf.displacement(np.stack([x, y]), 2.0)
     assert hf.spread == pytest.approx((h.std(), np.sqrt((d * d).sum(0).mean())), rel=0.10)
+    # Tessendorf's displacement of a wave, lambda A sin against its height A cos: as large
+    # (rms) as the height times the choppiness, when k is the waves' own (noise.WAVELENGTH).
+    assert np.sqrt((d * d).sum(0).mean()) == pytest.approx(0.8 * h.std(), rel=0.10)
 
 
 def test_choppy_noise_moves_points_toward_the_crests():

@@ -16,6 +16,7 @@ from projgrid_addon import (
     spectrum,
 )
 from projgrid_addon.camera import look_at, orthographic, perspective
+from projgrid_addon.noise import WAVELENGTH
 from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SHARE_PER_TILE, SpectralField
 from projgrid_addon.spectrum import GRAVITY, SeaState
@@ -63,6 +64,25 @@ def test_fully_developed_sea_is_pierson_moskowitz(u):
     amplitude, wave_scale = sea_states.noise_waves(u)
     noise = HeightField(amplitude=amplitude, wave_scale=wave_scale, seed=2)
     assert 4.0 * noise.heights(x, y, 3.0).std() == pytest.approx(pm, rel=0.10)
+
+
+@pytest.mark.parametrize("u", [6.0, 15.0])
+def test_the_noise_from_wind_has_the_spectrum_s_peak(u):
+    """From Wind, the noise's first octave's waves are the spectrum's peak wavelength
+    2 pi g / omega_p^2 (within 5 %): 2 pi over their rms wavenumber, the slope's root mean
+    square over the height's standard deviation (sqrt(m2 / m0))."""
+    amplitude, wave_scale = sea_states.noise_waves(u)
+    first = HeightField(amplitude=amplitude, wave_scale=wave_scale, octaves=1, method="exact")
+    x, y = np.random.default_rng(4).uniform(0.0, 40.0 * wave_scale, (2, 20_000))
+    e, slopes, heights = 1e-3 * wave_scale, 0.0, 0.0
+    for t in np.arange(10) / (10.0 * first.time_coordinate(0, 1.0)):  # a noise time unit
+        h = first.heights(x, y, t)
+        gx = (first.heights(x + e, y, t) - first.heights(x - e, y, t)) / (2.0 * e)
+        gy = (first.heights(x, y + e, t) - first.heights(x, y - e, t)) / (2.0 * e)
+        slopes, heights = slopes + np.mean(gx * gx + gy * gy), heights + np.mean(h * h)
+    k = np.sqrt(slopes / heights)
+    assert 2.0 * np.pi / k == pytest.approx(
+        spectrum.peak_wavelength(SeaState(wind_speed=u)), rel=0.05)
 
 
 def test_a_fetch_limited_sea_grows_toward_the_fully_developed_one():
@@ -124,14 +144,16 @@ def test_the_spectral_sea_travels_with_the_wind(direction):
 
 
 def test_the_noise_travels_with_the_wind():
-    """Each octave of the noise travels at its wave speed: the dominant first octave moves by
-    sqrt(g lambda / 2 pi) per second (within 25 %)."""
+    """Each octave of the noise travels at its waves' speed: the dominant first octave moves
+    by sqrt(g lambda / 2 pi) per second, lambda its waves' length (noise.WAVELENGTH lattice
+    periods; within 10 %)."""
     direction = 0.9
     hf = HeightField(amplitude=1.0, wave_scale=40.0, octaves=6, wind_direction=direction)
     a, b = (surface(hf, t, 256.0, 512, 1.0) for t in (10.0, 11.0))  # the first octave
     move = offset(a, b, 0.5)
     along = move @ (np.cos(direction), np.sin(direction))
-    assert along == pytest.approx(np.sqrt(GRAVITY * 40.0 / (2.0 * np.pi)), rel=0.25)
+    assert along == pytest.approx(np.sqrt(GRAVITY * 40.0 * WAVELENGTH / (2.0 * np.pi)),
+                                  rel=0.10)
     assert abs(across(direction, move)) < 0.2 * along
 
 
