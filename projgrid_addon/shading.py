@@ -66,6 +66,23 @@ def grain_cover(fac, share, spread, cdf=BOWLING):
     return np.clip((rank - 1.0 + share) / edge + 0.5, 0.0, 1.0) * (share > 0.0)
 
 
+def foam_cover(f, distance, cos_view, share, coverage, fac, spread, cdf, grain, whitecap):
+    """The foam the shader draws at a point (its Foam mix's factor), the vertex's foam `share`
+    there and a grain noise of Fac `fac`: the grain's top ranks cover the share (`grain_cover`);
+    where the pixel's footprint along the view (`footprint_log`) outgrows a `whitecap` (m) the
+    share is the sea's mean `coverage` (per-vertex foam on a grid that moves with the camera
+    would pop). The grain is drawn while the pixel's area, cos times its length across, holds
+    few of its `grain` (m) patches, so far whitecaps stay specks as in photographs (Jensen and
+    Golias's foam is where the crests break, not a veil); past that the share itself, the
+    grain's mean."""
+    footprint = footprint_log(f, distance, cos_view)
+    whole = np.clip((footprint - np.log(whitecap)) / np.log(2.0), 0.0, 1.0) * (coverage > 0.0)
+    share = share + whole * (coverage - share)
+    area = footprint + 0.5 * np.log(_view_cos(f, cos_view))
+    shown = np.clip((np.log(grain) - area) / np.log(2.0) + 1.0, 0.0, 1.0)
+    return share + shown * (grain_cover(fac, share, spread, cdf) - share)
+
+
 def sun_direction(matrix_world):
     """Unit vector towards a sun lamp of world matrix `matrix_world` (4x4): it shines along its
     local -Z."""

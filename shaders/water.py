@@ -49,7 +49,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 20  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 21  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -70,7 +70,7 @@ FOAM_RANK = (1.522, 0.0963)
 # nought, everything at one, and the mean is the share (shading.grain_cover).
 FOAM_EDGE = 0.5
 FOAM_STREAK = 4.0  # and this many times more across it
-WHITECAP = 8.0  # m: a pixel this wide (and wider) shows the sea's mean whitecap cover
+WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
@@ -376,19 +376,23 @@ def _build(group):
     rank = g.math("DIVIDE", 1.0, g.math("ADD", 1.0, g.math("POWER", E, g.math(
         "MULTIPLY", z, g.math("MULTIPLY_ADD", g.math("MULTIPLY", z, z), -FOAM_RANK[1],
                               -FOAM_RANK[0])))))
-    edge = g.math("MULTIPLY_ADD", g.math("MINIMUM", foam, g.math("SUBTRACT", 1.0, foam)),
-                  FOAM_EDGE, 1e-4)
-    bubbles = g.math("MULTIPLY", g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math(
-        "SUBTRACT", rank, 1.0), foam), edge), 0.5, clamp=True), g.math("GREATER_THAN", foam, 0.0))
-    # Where the pixel outgrows the grain's streaks, the share itself; where it outgrows a
-    # whitecap, the sea's mean cover (per-vertex foam on a grid that moves with the camera
-    # would pop).
-    grain_shown = g.math("ADD", g.math("DIVIDE", g.math(
-        "SUBTRACT", -math.log(FOAM_GRAIN * FOAM_STREAK), footprint), LN2), 1.0, clamp=True)
+    # The share the grain draws: the vertex's, or where the pixel outgrows a whitecap along
+    # the view the sea's mean cover (shading.foam_cover).
     whole = g.math("MULTIPLY", g.math("DIVIDE", g.math(
         "SUBTRACT", footprint, math.log(WHITECAP)), LN2, clamp=True), g.math(
         "GREATER_THAN", i["Foam Coverage"], 0.0))  # whitecaps called for (not contact foam alone)
-    foam = g.mix(whole, g.mix(grain_shown, foam, bubbles), i["Foam Coverage"])
+    share = g.mix(whole, foam, i["Foam Coverage"])
+    edge = g.math("MULTIPLY_ADD", g.math("MINIMUM", share, g.math("SUBTRACT", 1.0, share)),
+                  FOAM_EDGE, 1e-4)
+    bubbles = g.math("MULTIPLY", g.math("ADD", g.math("DIVIDE", g.math("ADD", g.math(
+        "SUBTRACT", rank, 1.0), share), edge), 0.5, clamp=True),
+        g.math("GREATER_THAN", share, 0.0))
+    # The grain's patches while the pixel's area holds few of them: far whitecaps stay
+    # specks, not a share spread thin over the crests; past that, the share itself.
+    grain_shown = g.math("ADD", g.math("DIVIDE", g.math(
+        "SUBTRACT", -math.log(FOAM_GRAIN * math.sqrt(FOAM_STREAK)),
+        g.math("MULTIPLY_ADD", log_cos, 0.5, footprint)), LN2), 1.0, clamp=True)
+    foam = g.mix(grain_shown, share, bubbles)
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {

@@ -31,6 +31,7 @@ MATH = {
     "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
     "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
     "COSINE": lambda a, b, c: math.cos(a), "SINE": lambda a, b, c: math.sin(a),
+    "GREATER_THAN": lambda a, b, c: float(a > b),
 }
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
@@ -47,8 +48,8 @@ class Evaluator:
     """Values of a shader node tree's sockets for given group inputs and stubbed scene inputs
     (the nodes a render would feed: attribute, camera data, geometry)."""
 
-    def __init__(self, group_inputs, lod, distance, incoming):
-        self.inputs, self.cache = group_inputs, {}
+    def __init__(self, group_inputs, lod, distance, incoming, attributes=None, fac=0.5):
+        self.inputs, self.cache, self.attributes = group_inputs, {}, attributes or {}
         self.stubs = {"ShaderNodeAttribute": {"Fac": lod},
                       "ShaderNodeCameraData": {"View Distance": distance},
                       "ShaderNodeNewGeometry": {"Incoming": np.asarray(incoming, float),
@@ -57,7 +58,8 @@ class Evaluator:
                       # the waves' bumps: a flat sea's normal (the glint's sun reach uses it)
                       "ShaderNodeBump": {"Normal": np.array([0.0, 0.0, 1.0])},
                       # the glint facet's cell: its two random values
-                      "ShaderNodeTexVoronoi": {"Color": np.array([*FACET_RANDOM, 0.5])}}
+                      "ShaderNodeTexVoronoi": {"Color": np.array([*FACET_RANDOM, 0.5])},
+                      "ShaderNodeTexNoise": {"Fac": fac}}
 
     def input(self, socket):
         if socket.is_linked:
@@ -75,6 +77,12 @@ class Evaluator:
         kind = node.bl_idname
         if kind == "NodeGroupInput":
             return self.inputs[socket.name]
+        if kind == "ShaderNodeAttribute" and node.attribute_name in self.attributes:
+            return self.attributes[node.attribute_name]
+        if kind == "ShaderNodeMix":
+            t, a, b = (self.input(next(s for s in node.inputs if s.identifier == k))
+                       for k in ("Factor_Float", "A_Float", "B_Float"))
+            return a + t * (b - a)
         if kind in self.stubs:
             stub = self.stubs[kind]
             return stub[socket.identifier] if socket.identifier in stub else stub[socket.name]
@@ -185,6 +193,30 @@ def test_the_slope_layer_s_gains_are_the_core_s(water):
             assert drawn == pytest.approx(want, rel=1e-5, abs=1e-7), (b, d, c, lod)
             seen.add(round(want, 4))
     assert len(seen) > 8 and 0.0 in seen and max(seen) > 0.5
+
+
+def test_the_foam_is_the_core_s(water, extension):
+    """The foam drawn (the Foam mix's factor) is shading.foam_cover's: the grain's top ranks
+    covering the vertex's share near, the sea's mean share where a pixel is longer than a
+    whitecap, and far whitecaps still drawn by the grain while the pixel's area is small."""
+    node, core = water
+    shaders = extension.shaders.water
+    values, f, _ = _settings(node, core)
+    values["Foam Coverage"] = coverage = 0.03
+    mix = node.node_tree.nodes["Foam"].inputs[0]
+    grain = 1.0 / (shaders.FOAM_GRAIN * math.sqrt(shaders.FOAM_STREAK))
+    seen = set()
+    for d, c, share, fac in itertools.product((3.0, 40.0, 400.0, 4000.0, 40000.0),
+                                              (0.05, 0.4, 1.0), (0.0, 0.01, 0.6),
+                                              (0.3, 0.5, 0.62)):
+        ev = Evaluator(values, 0.0, d, (math.sqrt(1.0 - c * c), 0.0, c),
+                       attributes={shaders.FOAM_ATTRIBUTE: share}, fac=fac)
+        want = float(core.shading.foam_cover(
+            f, d, c, share, coverage, fac, shaders.FOAM_GRAIN_STD, shaders.FOAM_RANK, grain,
+            shaders.WHITECAP))
+        assert ev.input(mix) == pytest.approx(want, rel=1e-5, abs=1e-6), (d, c, share, fac)
+        seen.add(round(want, 3))
+    assert {0.0, 1.0, coverage} <= seen and len(seen) > 5
 
 
 def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):

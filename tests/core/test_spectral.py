@@ -620,6 +620,27 @@ def test_the_grain_covers_a_vertex_s_share(share):
     assert shading.grain_cover(fac, 0.0, spread).max() == 0.0
 
 
+def test_far_whitecaps_stay_specks():
+    """From 4 m up, 150 m away a pixel is longer than the grain's patches (1.7 m: the water
+    group's) along the view but its area holds few: the foam drawn there is specks of whole
+    foam covering the share (shading.foam_cover), not the share spread as a veil; at the
+    horizon, where a pixel is longer than a whitecap (8 m), the sea's mean share."""
+    proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+    f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=15.0)).slopes, 15.0)
+    spread, grain, whitecap, coverage = 0.0619, 1.0 / (0.3 * 2.0), 8.0, 0.02
+    fac = 0.5 + spread * np.random.default_rng(3).standard_normal(400_000)
+
+    def drawn(d, share):
+        return shading.foam_cover(f, d, 4.0 / d, share, coverage, fac, spread,
+                                  shading.BOWLING, grain, whitecap)
+    assert np.exp(shading.footprint_log(f, 150.0, 4.0 / 150.0)) > grain
+    near = drawn(150.0, 0.05)
+    assert near.mean() == pytest.approx(0.05, rel=0.05)
+    assert (near > 0.9).mean() > 0.5 * 0.05 and near.max() == 1.0
+    far = drawn(5000.0, 0.3)
+    assert far == pytest.approx(coverage)
+
+
 def test_a_frame_s_foam_and_bounds_do_not_hang_on_earlier_frames():
     """The foam calibrations prepare the sea at their own times; a frame's foam (with contact
     foam, whose reach is the waves' bound) and bound are the same computed alone or after an
