@@ -5,7 +5,8 @@ Nyquist limit). Each vertex therefore carries a level of detail
 
     lod = log2(wave_scale / (2 spacing))
 
-and octave i (wavelength wave_scale / 2^i) is weighted clip(lod - i, 0, 1): kept whole while its
+and octave i (lattice period wave_scale / 2^i; its waves are noise.WAVELENGTH times as long,
+so this is conservative) is weighted clip(lod - i, 0, 1): kept whole while its
 wavelength is at least four spacings, faded out until it is two, as a mip-map blends its levels.
 The octaves some vertex dropped go to the shader as bump detail (`shader_octaves`), faded in by
 the same per-vertex lod, so the surface keeps its detail across the hand-over (§3.1.3).

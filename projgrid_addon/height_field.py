@@ -233,7 +233,8 @@ class HeightField:
                               time_rate=float(self.time_coordinate(first, 1.0)))
 
     def ripple(self):
-        """(shading.Detail, longest wavelength m): the fractal carried on below its last octave,
+        """(shading.Detail, the longest one's lattice period m): the fractal carried on below
+        its last octave,
         shading.RIPPLE_OCTAVES octaves each half the height of the one before (the roughness
         the shader's ripples have; every octave of the noise's own reaches the shader through
         `shader_detail`). Without them the wind's slopes all went into the roughness at every
@@ -272,8 +273,8 @@ class HeightField:
     @property
     def slopes(self):
         """The slope variance of the octaves and the ripples (shading.Slopes): octave i's slope
-        is its gain times the noise's gradient per lattice unit over its wavelength; each
-        ripple octave the first's (`_ripple_gain`), half its height over half its wavelength."""
+        is its gain times the noise's gradient per lattice unit over its lattice period; each
+        ripple octave the first's (`_ripple_gain`), half its height over half its period."""
         def variance(gain, wavelength):
             return (gain * _noise.GRADIENT_RMS / wavelength) ** 2
 

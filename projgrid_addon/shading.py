@@ -71,10 +71,11 @@ def foam_cover(f, distance, cos_view, share, coverage, fac, spread, cdf, grain, 
     there and a grain noise of Fac `fac`: the grain's top ranks cover the share (`grain_cover`);
     where the pixel's footprint along the view (`footprint_log`) outgrows a `whitecap` (m) the
     share is the sea's mean `coverage` (per-vertex foam on a grid that moves with the camera
-    would pop). The grain is drawn while the pixel's area, cos times its length across, holds
-    few of its `grain` (m) patches, so far whitecaps stay specks as in photographs (Jensen and
-    Golias's foam is where the crests break, not a veil); past that the share itself, the
-    grain's mean."""
+    would pop). The grain is drawn while the pixel's area (its length along the view times
+    sqrt(cos), the mean of its two axes) holds few of its `grain` (m) patches, so whitecaps
+    stay specks well beyond where the pixel's length alone outgrows them (Jensen and Golias's
+    foam is where the crests break, not a veil); past that the share itself, the grain's
+    mean."""
     footprint = footprint_log(f, distance, cos_view)
     whole = np.clip((footprint - np.log(whitecap)) / np.log(2.0), 0.0, 1.0) * (coverage > 0.0)
     share = share + whole * (coverage - share)

@@ -255,7 +255,8 @@ def flat_warning(hf, result, settings):
         return None
     spacing = hf.wave_scale / 2.0 ** (float(result.lod.max()) + 1.0)
     text = (f"no wave is in the geometry: the grid's vertices lie {spacing:.3g} m apart or "
-            f"more, beyond the longest wave ({longest:.3g} m); ")
+            f"more, too sparse for the band limit to keep even the longest waves "
+            f"({longest:.3g} m); ")
     if settings.projector_elevation > hf.bound:
         return text + (f"Projector Elevation ({settings.projector_elevation:.3g} m) lifts the "
                        "projector far above the waves: lower it")
