@@ -234,11 +234,11 @@ class HeightField:
 
     def ripple(self):
         """(shading.Detail, the longest one's lattice period m): the fractal carried on below
-        its last octave,
-        shading.RIPPLE_OCTAVES octaves each half the height of the one before (the roughness
-        the shader's ripples have; every octave of the noise's own reaches the shader through
-        `shader_detail`). Without them the wind's slopes all went into the roughness at every
-        distance (shading.filtering) and the noise's sea was blurred even at the camera."""
+        its last octave, shading.RIPPLE_OCTAVES octaves each half the height of the one before
+        (the roughness the shader's ripples have; every octave of the noise's own reaches the
+        shader through `shader_detail`). Without them the wind's slopes all went into the
+        roughness at every distance (shading.filtering) and the noise's sea was blurred even at
+        the camera."""
         top = self.lattice(self.octaves)
         octaves = shading.RIPPLE_OCTAVES
         std = (self._ripple_gain() * _noise.NOISE_STD
@@ -275,8 +275,8 @@ class HeightField:
         """The slope variance of the octaves and the ripples (shading.Slopes): octave i's slope
         is its gain times the noise's gradient per lattice unit over its lattice period; each
         ripple octave the first's (`_ripple_gain`), half its height over half its period."""
-        def variance(gain, wavelength):
-            return (gain * _noise.GRADIENT_RMS / wavelength) ** 2
+        def variance(gain, period):
+            return (gain * _noise.GRADIENT_RMS / period) ** 2
 
         octaves = [variance(self._gain(i), self.lattice(i)) for i in range(self.octaves)]
         top = self.lattice(self.octaves)
@@ -292,11 +292,9 @@ class HeightField:
         octaves are independent noises, so their variances add (noise.NOISE_STD); each octave's
         displacement, lambda grad h / k, is lambda times its height's (k its waves' rms
         wavenumber, noise.WAVELENGTH)."""
-        gains = self.amplitude / _noise.NOISE_BOUND * np.sqrt(
+        std = self.amplitude / _noise.NOISE_BOUND * _noise.NOISE_STD * np.sqrt(
             sum(self.roughness ** (2 * i) for i in range(self.octaves)))
-        return (float(gains * _noise.NOISE_STD),
-                float(gains * self.choppiness * _noise.GRADIENT_RMS * _noise.WAVELENGTH
-                      / (2.0 * np.pi)))
+        return float(std), float(self.choppiness * std)
 
     def lattice(self, octave):
         """Octave i's lattice period, scale / 2^i (m): the unit the band limit and the filtering
