@@ -22,6 +22,10 @@ NOISE_FAC_STD = 0.072
 # (each source's `ripple`); under them the wind's slopes Cox and Munk measured that the sea
 # does not draw (`filtering`).
 RIPPLE_OCTAVES = 3
+# The length of that noise's waves in its cells (2 pi times its Fac's spread over its rms
+# gradient) by Detail, roughness 0.5: a cell is not a wave, and the fractal's octaves shorten
+# them. Measured through Geometry Nodes (tests/blender/test_sea.py re-measures them).
+NOISE_WAVES = ((0.0, 1.752), (1.0, 1.436), (2.0, 1.223), (3.0, 1.140))
 
 
 def noise_fac_std(detail, roughness):
@@ -33,6 +37,15 @@ def noise_fac_std(detail, roughness):
         return float(np.sqrt(np.sum(amps**2)) / np.sum(amps))
     r = min(max(float(roughness), 0.0), 1.0)  # the noise node clamps it
     return NOISE_FAC_STD / spread(2, 0.5) * spread(max(detail, 0.0), r)
+
+
+def detail_height(slope_variance, scale, detail):
+    """The height (m per unit Fac) of Blender's noise (roughness 0.5) of `scale` cells per metre
+    and `detail` whose bump draws `slope_variance`: its slope is its height's spread times the
+    rms wavenumber of its waves, 2 pi scale / NOISE_WAVES."""
+    levels, waves = zip(*NOISE_WAVES, strict=True)
+    wavenumber = 2.0 * np.pi * scale / float(np.interp(detail, levels, waves))
+    return float(np.sqrt(slope_variance) / wavenumber / noise_fac_std(detail, 0.5))
 
 
 @dataclass(frozen=True)

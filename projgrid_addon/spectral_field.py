@@ -471,21 +471,19 @@ class SpectralField:
     def _ripple(self):
         """The waves shorter than the last band, which no tile holds, down
         shading.RIPPLE_OCTAVES octaves, as shading detail (shading.Detail, `first` unused;
-        drawn where a pixel shows them, shading.Filtering), and the longest of them (m). Their
-        height is the spectrum's own over that range (σ² = α/4k² under its k⁻⁴ tail; the
-        bump's distance is σ over the noise's own spread), each octave half the one before.
-        Without them the near water, whose every band the geometry holds, had no detail finer
-        than 25 cm and looked glassy."""
+        drawn where a pixel shows them, shading.Filtering), and the longest of them (m), each
+        octave half the one before. They draw the spectrum's slopes over that range
+        (shading.detail_height; the filtering books them as drawn): as high as the spectrum's
+        own (its height, k⁻⁴ under the tail) they drew a sixth of them, the noise's waves longer
+        than its cells and the spectrum's slope near each octave's short end. Without them the
+        near water, whose every band the geometry holds, had no detail finer than 25 cm and
+        looked glassy."""
         top = bands()[-1][0]
-        k = 2.0 * np.pi / top
         octaves = shading.RIPPLE_OCTAVES
-        w = np.sqrt(spectrum.GRAVITY * k * np.geomspace(1.0, 2.0**octaves, 2000))
-        variance = float(spectrum.integrate(spectrum.wind_spectrum(w, self.state)
-                                            + spectrum.swell_spectrum(w, self.state), w))
+        slopes = _slope_variance(self.state, top / 2.0**octaves, top)
         detail = shading.Detail(first=BANDS, scale=1.0 / top, octaves=float(octaves - 1),
                                 roughness=0.5,
-                                height=np.sqrt(variance)
-                                / shading.noise_fac_std(octaves - 1, 0.5),
+                                height=shading.detail_height(slopes, 1.0 / top, octaves - 1),
                                 time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * top))))
         return detail, float(top)
 

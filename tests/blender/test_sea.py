@@ -339,6 +339,13 @@ def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
 def grain_noise(water, samples=700, w=3.7):
     """The Fac of the foam's grain noise (as the water group sets it) over a square 600 of its
     features across, evaluated by Blender's own noise through Geometry Nodes."""
+    return blender_noise(water.FOAM_GRAIN, water.FOAM_DETAIL, water.FOAM_ROUGHNESS,
+                         600.0 / water.FOAM_GRAIN, samples, w)
+
+
+def blender_noise(scale, detail, roughness, size, samples, w):
+    """The Fac of Blender's 4D noise texture over a square `size` across, `samples` a side,
+    at time `w`, evaluated through Geometry Nodes."""
     mesh = bpy.data.meshes.new("grain")
     obj = bpy.data.objects.new("grain", mesh)
     bpy.context.scene.collection.objects.link(obj)
@@ -346,12 +353,12 @@ def grain_noise(water, samples=700, w=3.7):
     tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
     grid = tree.nodes.new("GeometryNodeMeshGrid")
     for axis in ("X", "Y"):
-        grid.inputs[f"Size {axis}"].default_value = 600.0 / water.FOAM_GRAIN
+        grid.inputs[f"Size {axis}"].default_value = size
         grid.inputs[f"Vertices {axis}"].default_value = samples
     noise = tree.nodes.new("ShaderNodeTexNoise")
     noise.noise_dimensions = "4D"
-    for name, value in (("Scale", water.FOAM_GRAIN), ("Detail", water.FOAM_DETAIL),
-                        ("Roughness", water.FOAM_ROUGHNESS), ("W", w)):
+    for name, value in (("Scale", scale), ("Detail", detail), ("Roughness", roughness),
+                        ("W", w)):
         noise.inputs[name].default_value = value
     store = tree.nodes.new("GeometryNodeStoreNamedAttribute")
     store.inputs["Name"].default_value = "fac"
@@ -382,6 +389,21 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
         drawn = np.mean([shading.grain_cover(f, share, water.FOAM_GRAIN_STD,
                                              water.FOAM_RANK).mean() for f in facs])
         assert drawn == pytest.approx(share, rel=0.10), share
+
+
+def test_the_noise_s_waves_are_as_long_as_the_core_says(extension):
+    """Blender's noise (roughness 0.5) draws waves shading.NOISE_WAVES of its cells long (2π
+    times its Fac's spread over its rms gradient), which the ripples' height is set by to draw
+    the spectrum's slopes: within 4 % over three of its time slices, at each Detail."""
+    shading = extension.projgrid_addon.shading
+    n, size = 600, 40.0
+    for detail, waves in shading.NOISE_WAVES:
+        measured = []
+        for w in (0.7, 3.7, 9.1):
+            fac = blender_noise(1.0, detail, 0.5, size, n, w).reshape(n, n).astype(np.float64)
+            gy, gx = np.gradient(fac, size / (n - 1))
+            measured.append(2.0 * np.pi * fac.std() / np.sqrt(np.mean(gx * gx + gy * gy)))
+        assert np.mean(measured) == pytest.approx(waves, rel=0.04), detail
 
 
 def test_the_grain_churns_at_its_rate_whatever_its_size(sea, extension):

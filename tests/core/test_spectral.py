@@ -473,17 +473,21 @@ def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
 
 
 def test_the_ripples_are_the_spectrum_s_tail():
-    """The waves shorter than the last band come back as shading detail whose height is the
-    spectrum's own there: Pierson-Moskowitz's k⁻⁴ tail, σ² = α/4 (1/k₁² − 1/k₂²) with
-    α = 0.0081, whatever the wind (its saturation range); the bump's distance is σ over the
-    spread of Blender's noise."""
+    """The waves shorter than the last band come back as shading detail drawing the
+    spectrum's slopes there, which the filtering books as drawn: Pierson-Moskowitz's k⁻⁴
+    tail, α/2 ln(k₂/k₁) with α = 0.0081, whatever the wind (its saturation range). Blender's
+    noise of Detail 2 draws waves NOISE_WAVES (1.22) of its cells long, so its slope is its
+    height's spread times 2π scale / 1.22 (as high as the spectrum's own, σ² = α/4 (1/k₁² −
+    1/k₂²), it drew a sixth of that)."""
     k1 = 2.0 * np.pi / spectral_field.bands()[-1][0]
     k2 = k1 * 2.0**shading.RIPPLE_OCTAVES
-    sigma = np.sqrt(0.0081 / 4.0 * (1.0 / k1**2 - 1.0 / k2**2))
     for u in (5.0, 15.0):
-        detail, longest = SpectralField(SeaState(wind_speed=u)).ripple()
-        assert detail.height * shading.NOISE_FAC_STD == pytest.approx(sigma, rel=0.02)
-        assert 1.0 / detail.scale == pytest.approx(longest)
+        source = SpectralField(SeaState(wind_speed=u))
+        detail, longest = source.ripple()
+        assert 1.0 / detail.scale == pytest.approx(longest) and detail.octaves == 2.0
+        drawn = (detail.height * shading.NOISE_FAC_STD * 2.0 * np.pi * detail.scale / 1.223)**2
+        assert drawn == pytest.approx(0.0081 / 2.0 * np.log(k2 / k1), rel=0.03)
+        assert drawn == pytest.approx(source.slopes.ripple, rel=1e-6)
 
 
 def test_the_noise_s_ripples_carry_on_its_fractal():
