@@ -433,7 +433,7 @@ def _render(report):
                         if by["unfiltered"]["flicker"] < 3.0 * truth else ".")
             report.targets.append(Target(
                 f"Far-field frame-to-frame change filtered ≥ 3× less ({shot})",
-                f"{gain:.1f}× less", gain >= 3.0,
+                f"{gain:.2f}× less", gain >= 3.0,
                 f"**Far-field change, {shot}.** Filtering cuts the far field's frame-to-frame "
                 f"change {gain:.1f}×: much of what is left is the resolved waves' own motion "
                 "across the screen as the camera moves (and toward the sun the glitter path on "
@@ -459,7 +459,7 @@ def _render(report):
                 gain2 = by["unfiltered"]["flicker_2"] / max(by["filtered"]["flicker_2"], 1e-9)
                 report.targets.append(Target(
                     f"Far-field flicker (second difference) filtered ≥ 3× less ({shot})",
-                    f"{gain2:.1f}× less", gain2 >= 3.0,
+                    f"{gain2:.2f}× less", gain2 >= 3.0,
                     f"**Flicker, {shot}.** Filtering cuts the far field's second difference "
                     f"only {gain2:.1f}×."))
 
