@@ -236,16 +236,16 @@ class HeightField:
         """(shading.Detail, the longest one's lattice period m): the fractal carried on below
         its last octave, shading.RIPPLE_OCTAVES octaves each half the height of the one before
         (the roughness the shader's ripples have; every octave of the noise's own reaches the
-        shader through `shader_detail`). Without them the wind's slopes all went into the
-        roughness at every distance (shading.filtering) and the noise's sea was blurred even at
-        the camera."""
+        shader through `shader_detail`), drawing the slopes they would have (`slopes`; Blender's
+        noise draws them a little higher than ours would be, shading.detail_height). Without
+        them the wind's slopes all went into the roughness at every distance
+        (shading.filtering) and the noise's sea was blurred even at the camera."""
         top = self.lattice(self.octaves)
         octaves = shading.RIPPLE_OCTAVES
-        std = (self._ripple_gain() * _noise.NOISE_STD
-               * np.sqrt(sum(0.25**j for j in range(octaves))))
         return shading.Detail(first=self.octaves, scale=1.0 / top,
                               octaves=float(octaves - 1), roughness=0.5,
-                              height=float(std / shading.noise_fac_std(octaves - 1, 0.5)),
+                              height=shading.detail_height(self.slopes.ripple, 1.0 / top,
+                                                           octaves - 1),
                               time_rate=float(self.time_coordinate(self.octaves, 1.0))), top
 
     def _gain(self, octave):
