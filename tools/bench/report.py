@@ -435,7 +435,7 @@ def _render(report):
                 f"Far-field frame-to-frame change filtered ≥ 3× less ({shot})",
                 f"{gain:.2f}× less", gain >= 3.0,
                 f"**Far-field change, {shot}.** Filtering cuts the far field's frame-to-frame "
-                f"change {gain:.1f}×: much of what is left is the resolved waves' own motion "
+                f"change {gain:.2f}×: much of what is left is the resolved waves' own motion "
                 "across the screen as the camera moves (and toward the sun the glitter path on "
                 "them), which no filtering removes and the second difference cancels." + own))
             truth = by.get("supersampled", by.get("converged", by["unfiltered"]))
@@ -461,7 +461,7 @@ def _render(report):
                     f"Far-field flicker (second difference) filtered ≥ 3× less ({shot})",
                     f"{gain2:.2f}× less", gain2 >= 3.0,
                     f"**Flicker, {shot}.** Filtering cuts the far field's second difference "
-                    f"only {gain2:.1f}×."))
+                    f"only {gain2:.2f}×."))
 
 
 def _effects(report):
