@@ -480,10 +480,10 @@ class SpectralField:
         looked glassy."""
         top = bands()[-1][0]
         octaves = shading.RIPPLE_OCTAVES
-        slopes = _slope_variance(self.state, top / 2.0**octaves, top)
         detail = shading.Detail(first=BANDS, scale=1.0 / top, octaves=float(octaves - 1),
                                 roughness=0.5,
-                                height=shading.detail_height(slopes, 1.0 / top, octaves - 1),
+                                height=shading.detail_height(self.slopes.ripple, 1.0 / top,
+                                                             octaves - 1),
                                 time_rate=float(np.sqrt(spectrum.GRAVITY / (2.0 * np.pi * top))))
         return detail, float(top)
 

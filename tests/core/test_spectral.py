@@ -472,6 +472,12 @@ def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
     assert effects.calibrate_ahead(HeightField(), 10.3, coverage) == 0
 
 
+def drawn_slope(detail):
+    """The slope variance the bump of a Detail of Blender's noise (Detail 2) draws: its
+    height's spread times 2π scale / 1.223, the noise's waves being 1.223 of its cells long."""
+    return (detail.height * shading.NOISE_FAC_STD * 2.0 * np.pi * detail.scale / 1.223)**2
+
+
 def test_the_ripples_are_the_spectrum_s_tail():
     """The waves shorter than the last band come back as shading detail drawing the
     spectrum's slopes there, which the filtering books as drawn: Pierson-Moskowitz's k⁻⁴
@@ -485,7 +491,7 @@ def test_the_ripples_are_the_spectrum_s_tail():
         source = SpectralField(SeaState(wind_speed=u))
         detail, longest = source.ripple()
         assert 1.0 / detail.scale == pytest.approx(longest) and detail.octaves == 2.0
-        drawn = (detail.height * shading.NOISE_FAC_STD * 2.0 * np.pi * detail.scale / 1.223)**2
+        drawn = drawn_slope(detail)
         assert drawn == pytest.approx(0.0081 / 2.0 * np.log(k2 / k1), rel=0.03)
         assert drawn == pytest.approx(source.slopes.ripple, rel=1e-6)
 
@@ -505,7 +511,7 @@ def test_the_noise_s_ripples_carry_on_its_fractal():
     added = more.heights(x, y, 2.0) - source.heights(x, y, 2.0)
     assert detail.height * shading.NOISE_FAC_STD == pytest.approx(added.std(), rel=0.15)
     slopes = source.slopes
-    drawn = (detail.height * shading.NOISE_FAC_STD * 2.0 * np.pi * detail.scale / 1.223)**2
+    drawn = drawn_slope(detail)
     assert drawn == pytest.approx(slopes.ripple, rel=1e-6)
     assert slopes.ripple == pytest.approx(
         slope_variance(more) - slope_variance(source), rel=0.10)
