@@ -147,6 +147,15 @@ def cox_munk(wind_speed):
     return 0.003 + 5.12e-3 * u
 
 
+def gust_spread(wind_speed):
+    """The standard deviation of the wind speed at 10 m (m/s) about its mean (m/s) over a
+    smooth surface: 0.4 m/s up to 5 m/s, 8 % of the wind above ("Standard deviations of wind
+    speed and direction from observations over a smooth surface", J. Appl. Meteor. 27,
+    550-561, 1988)."""
+    u = max(float(wind_speed), 0.0)
+    return 0.4 if u <= 5.0 else 0.08 * u
+
+
 @dataclass(frozen=True)
 class Slopes:
     """The slope variance a height source draws (geometry, shader detail and ripples): in all;
@@ -212,6 +221,10 @@ class Filtering:
     facets_sharp_log: float = float(np.log(FACETS_SHARP))
     facets_mean_log: float = float(np.log(FACETS_MEAN))
     sun_reach: float = SUN_REACH
+    # The ripples' slope variance a gust one standard deviation (gust_spread) stronger than the
+    # mean wind adds, per unit of theirs: Cox and Munk's at the gust's wind less at the mean's
+    # (the longer waves, hours in the making, do not follow a gust; the ripples do in seconds).
+    gust: float = 0.0
 
 
 def pixel_footprint(proj, width):
@@ -228,9 +241,10 @@ def filtering(proj, width, slopes, wind_speed):
     """The Filtering of a source drawing `slopes` (Slopes) under a wind (m/s at 10 m)."""
     pixel_log, power = pixel_footprint(proj, width)
     extra = max(cox_munk(wind_speed) - slopes.total, 0.0)
-    ripple, floor, gain = slopes.ripple, extra, 1.0
+    ripple, floor, gain, gust_ = slopes.ripple, extra, 1.0, 0.0
     if ripple > 0.0:
         ripple, floor, gain = ripple + extra, 0.0, float(np.sqrt((ripple + extra) / ripple))
+        gust_ = (cox_munk(wind_speed + gust_spread(wind_speed)) - cox_munk(wind_speed)) / ripple
     return Filtering(pixel_log=pixel_log, distance_power=power, floor=floor, ripple=ripple,
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),
@@ -241,7 +255,7 @@ def filtering(proj, width, slopes, wind_speed):
                      layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
                      layer_density=(slopes.density if slopes.layer_density is None
                                     else slopes.layer_density),
-                     facet_log=float(np.log(slopes.shortest / 2.0)))
+                     facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_)
 
 
 def footprint_log(f, distance, cos_view=1.0):
@@ -263,20 +277,35 @@ def undrawn_share(top_log, bottom_log, footprint_log_):
     return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
 
 
-def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None):
+def gust(fac, footprint_log_, scale, amplitude, fac_std):
+    """The factor on the ripples' slope variance where the gusts' noise (`scale` features per
+    metre, its Fac's spread `fac_std`) is `fac`: 1 + amplitude z, z = (fac - 0.5) / fac_std the
+    local wind's departure in standard deviations (`amplitude`: Filtering.gust), so its mean
+    over the symmetric noise is 1 (at least 0: a lull leaves the water flat, not negative),
+    faded to 1 as the footprint (ln m) nears a patch, an octave before, as the shader's noises
+    fade (cat's paws: the ripples answer the local wind within seconds)."""
+    shown = np.clip((-np.log(scale) - np.asarray(footprint_log_, dtype=np.float64)) / np.log(2.0)
+                    - 1.0, 0.0, 1.0)
+    z = (np.asarray(fac, dtype=np.float64) - 0.5) / fac_std
+    return np.maximum(1.0 + shown * amplitude * z, 0.0)
+
+
+def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None, gust_=1.0):
     """The roughness sigma^2 at `distance`, the vertices' band limit `lod` (None: every band
-    whole), as the shader computes it."""
+    whole), where the gusts scale the ripples' slope variance by `gust_` (`gust`), as the
+    shader computes it."""
     lp = footprint_log(f, distance, cos_view)
     lod = np.inf if lod is None else np.asarray(lod, dtype=np.float64)  # None: every band whole
     left = f.left_out_log - lod * np.log(2.0)
     top = max(f.layer_top_log, f.ripple_top_log)
-    return np.minimum(f.floor + f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
+    return np.minimum(f.floor + f.ripple * gust_
+                      * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
                       + f.density * np.clip(lp - f.ripple_top_log, 0.0, top - f.ripple_top_log)
                       + f.layer_density * np.maximum(np.maximum(lp, left) - top, 0.0),
                       f.ceiling)
 
 
-def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0):
+def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0, gust_=1.0):
     """The part of the ripples' undrawn slope variance s^2 the shader draws as the glint facets'
     own normals (FACETS_SHARP; the rest is the lobe's roughness): all of it while the pixel's
     footprint, L_p along the view by L_p cos across, holds at most FACETS_SHARP facets, none
@@ -287,7 +316,7 @@ def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0):
     facets = 2.0 * (lp - f.facet_log) + np.log(_view_cos(f, cos_view))  # ln N
     weight = np.clip((f.facets_mean_log - facets) / (f.facets_mean_log - f.facets_sharp_log),
                      0.0, 1.0)
-    undrawn = f.ripple * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
+    undrawn = f.ripple * gust_ * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
     reach = np.clip(1.0 - np.asarray(sun_tan2, dtype=np.float64)
                     / (f.sun_reach * undrawn + 1e-9), 0.0, 1.0)
     return weight * reach * undrawn

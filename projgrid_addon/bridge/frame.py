@@ -215,7 +215,8 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                      ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
                      settings.wind_direction,
                      effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0,
-                     layer[2] if layer is not None else (), facts.sun_direction)
+                     layer[2] if layer is not None else (), facts.sun_direction,
+                     settings.wind_speed * per_frame)
         if layer is not None:
             water.update_layer(material, layer[0], layer[1], layer_origin)
     if making:

@@ -42,18 +42,21 @@ def test_shader_time_is_driven_not_written(bridge):
         "default_value")
     driver = mat.node_tree.animation_data.drivers.find(path).driver
     assert driver.is_simple_expression  # runs where Python is blocked, on farms too
-    values = []
+    values, drifts = [], []
     for frame in (2, 30):
         scene.frame_set(frame)
         evaluated = mat.evaluated_get(bpy.context.evaluated_depsgraph_get())
-        values.append(evaluated.node_tree.nodes["Projected Grid Water"]
-                      .inputs["Detail Time"].default_value)
+        inputs = evaluated.node_tree.nodes["Projected Grid Water"].inputs
+        values.append(inputs["Detail Time"].default_value)
+        drifts.append(inputs["Gust Drift"].default_value)
     detail = bridge.scene.height_field(obj.projgrid).shader_detail(
         *bridge.state.RUNTIME.state(obj).grid.shader_octaves)
     assert driver.expression == bridge.frame.water.drive_expression(
         detail.time_rate * bridge.shot.seconds_per_frame(scene))  # unchanged since frame 2
     seconds = 28 * bridge.shot.seconds_per_frame(scene)
     assert np.isclose(values[1] - values[0], detail.time_rate * seconds, rtol=1e-5)
+    # the gusts drift with the wind at its speed
+    assert np.isclose(drifts[1] - drifts[0], obj.projgrid.wind_speed * seconds, rtol=1e-5)
 
 
 def test_updates_that_cannot_touch_the_sea_are_skipped(bridge, monkeypatch):

@@ -406,6 +406,30 @@ def test_the_noise_s_waves_are_as_long_as_the_core_says(extension):
         assert np.mean(measured) == pytest.approx(waves, rel=0.04), detail
 
 
+def test_the_gusts_keep_the_sea_s_mean_slope(extension):
+    """The gusts' noise over Blender's own noise: (Fac - 0.5) / water.GUST_FAC_STD is the
+    local wind's departure in its standard deviations (its spread over four times is 1 within
+    5 %), so the wind's spread is shading.gust_spread's; and at each time the ripples' factor
+    at the strongest gusts' amplitude (a light wind's) has mean 1 within 2 %, so the sea's mean
+    slope stays Cox and Munk's, with calm and gusty patches (a tenth of the sea beyond one
+    standard deviation each way)."""
+    water, core = extension.shaders.water, extension.projgrid_addon
+    shading, proj = core.shading, core.camera.perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+    amplitude = max(shading.filtering(proj, 960, core.spectral_field.SpectralField(
+        core.spectrum.SeaState(wind_speed=u)).slopes, u).gust for u in (2.0, 4.0, 7.0, 15.0))
+    assert 0.15 < amplitude < 0.5
+    n, spreads = 700, []
+    for w in (0.7, 3.7, 9.1, 17.3):
+        fac = blender_noise(water.GUST_SCALE, water.GUST_DETAIL, 0.5, 300.0 / water.GUST_SCALE,
+                            n, w).astype(np.float64)
+        spreads.append(np.std((fac - 0.5) / water.GUST_FAC_STD))
+        gust = shading.gust(fac, -10.0, water.GUST_SCALE, amplitude, water.GUST_FAC_STD)
+        assert gust.mean() == pytest.approx(1.0, abs=0.02), w
+        assert np.mean(gust < 1.0 - amplitude) > 0.1, w
+        assert np.mean(gust > 1.0 + amplitude) > 0.1, w
+    assert np.mean(spreads) == pytest.approx(1.0, rel=0.05)
+
+
 def test_the_grain_churns_at_its_rate_whatever_its_size(sea, extension):
     """Blender's noise multiplies its time W by its Scale: the water group divides the Detail
     Time by the grain's scale, so the bubbles' pattern changes FOAM_CHURN of the noise's own

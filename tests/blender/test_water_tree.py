@@ -31,7 +31,7 @@ MATH = {
     "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
     "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
     "COSINE": lambda a, b, c: math.cos(a), "SINE": lambda a, b, c: math.sin(a),
-    "GREATER_THAN": lambda a, b, c: float(a > b),
+    "GREATER_THAN": lambda a, b, c: float(a > b), "TANH": lambda a, b, c: math.tanh(a),
 }
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
@@ -129,7 +129,8 @@ def _settings(node, core):
         ceiling=values["Slope Ceiling"], layer_top_log=values["Layer Top Log"],
         layer_density=values["Layer Density"], left_out_log=values["Left Out Log"],
         facet_log=values["Facet Log"], facets_sharp_log=values["Facets Sharp Log"],
-        facets_mean_log=values["Facets Mean Log"], sun_reach=values["Sun Reach"])
+        facets_mean_log=values["Facets Mean Log"], sun_reach=values["Sun Reach"],
+        gust=values["Gust Amplitude"])
     bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
                                         values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
     return values, f, bands
@@ -139,27 +140,34 @@ CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0) for c in (0.05, 0
          for lod in (-6.0, -1.5, 0.7, 3.0)]
 
 
-def test_the_roughness_is_the_core_s(water):
+def test_the_roughness_is_the_core_s(water, extension):
     """The lobe's roughness is the slope variance not drawn, less what the glint's facets
-    draw of it (shading.facet_variance), which near the camera is not nothing."""
+    draw of it (shading.facet_variance), which near the camera is not nothing; the gusts
+    scale the ripples' share by the core's factor (shading.gust) wherever their noise is."""
     node, core = water
+    shaders = extension.shaders.water
     values, f, _ = _settings(node, core)
     assert f.layer_density > 0.0 and f.density > 0.0  # the spectral sea's: not a trivial case
     tree = node.node_tree
     glossy = next(n for n in tree.nodes if n.bl_idname in (
         "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic") and n.inputs["Roughness"].is_linked)
-    seen, facets = set(), set()
-    for (d, c, lod), sun in zip(CASES, itertools.cycle((0.0, 0.3, 1.0, None)), strict=False):
+    seen, facets, gusts = set(), set(), set()
+    for (d, c, lod), sun, fac in zip(CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
+                                     itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
+                                     strict=False):
         # the sun where the view's mirror is (a facet as flat as the sea shows it), `sun`
         # radians above it (the half vector sun / 2 from the normal), or no sun lamp
         s = math.sqrt(1.0 - c * c)
         toward = (0.0, 0.0, 0.0) if sun is None else (
             c * math.sin(sun) - s * math.cos(sun), 0.0, c * math.cos(sun) + s * math.sin(sun))
-        ev = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c))
+        ev = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c),
+                       fac=fac)
         drawn = ev.input(glossy.inputs["Roughness"]) ** 4
-        facet = (0.0 if sun is None else
-                 float(core.shading.facet_variance(f, d, c, math.tan(sun / 2.0) ** 2)))
-        want = float(core.shading.unresolved_slope_variance(f, d, c, lod)) - facet
+        gust = float(core.shading.gust(fac, core.shading.footprint_log(f, d, c),
+                                       shaders.GUST_SCALE, f.gust, shaders.GUST_FAC_STD))
+        facet = (0.0 if sun is None else float(core.shading.facet_variance(
+            f, d, c, math.tan(sun / 2.0) ** 2, gust)))
+        want = float(core.shading.unresolved_slope_variance(f, d, c, lod, gust)) - facet
         assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod, sun)
         # the glossy's normal: the flat sea's tilted by the facet's slopes (Box-Muller from
         # its cell's two random values, facet / 2 per axis)
@@ -171,8 +179,11 @@ def test_the_roughness_is_the_core_s(water):
             tilt / np.linalg.norm(tilt), abs=1e-6), (d, c, lod, sun)
         seen.add(round(want, 6))
         facets.add(round(facet, 6))
+        gusts.add(round(gust, 3))
     assert len(seen) > 10  # the cases reach different parts of the formula
     assert len(facets) > 2 and max(facets) > 0.1 * f.ripple  # and the facets' share
+    # and calm and gusty patches, beyond a standard deviation of the wind each way
+    assert f.gust > 0.1 and min(gusts) < 1.0 - f.gust and max(gusts) > 1.0 + f.gust
 
 
 def test_the_slope_layer_s_gains_are_the_core_s(water):

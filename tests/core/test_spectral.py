@@ -611,6 +611,27 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn
 
 
+@pytest.mark.parametrize("u", [2.0, 5.0, 8.0, 15.0])
+def test_a_gust_roughens_the_ripples_as_cox_munk_says(u):
+    """A gust one standard deviation strong (0.4 m/s up to a 5 m/s wind, 8 % of the wind
+    above: J. Appl. Meteor. 27, 550, 1988) adds to the ripples' slope variance what Cox and
+    Munk's 0.003 + 5.12e-3 U(12.5 m) grows by from the mean wind to the gust's (the longer
+    waves unchanged), and a lull takes as much; the factor's mean is 1 over a symmetric noise."""
+    spread = 0.4 if u <= 5.0 else 0.08 * u
+    f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 1920,
+                          SpectralField(SeaState(wind_speed=u)).slopes, u)
+    fac_std = 0.1
+    for z in (1.0, -1.0):
+        factor = float(shading.gust(0.5 + z * fac_std, -10.0, 1.0 / 30.0, f.gust, fac_std))
+        growth = 5.12e-3 * z * spread * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
+        assert f.ripple * (factor - 1.0) == pytest.approx(growth, rel=1e-6), z
+    z = np.linspace(-3.0, 3.0, 61)
+    assert shading.gust(0.5 + z * fac_std, -10.0, 1.0 / 30.0, f.gust, fac_std).mean() \
+        == pytest.approx(1.0, abs=1e-9)
+    # a pixel as wide as a patch shows the ripples' mean
+    assert float(shading.gust(0.8, np.log(30.0), 1.0 / 30.0, f.gust, fac_std)) == 1.0
+
+
 def test_bad_sea_states_name_the_setting():
     with pytest.raises(ValueError, match="wind_speed"):
         SeaState(wind_speed=-1.0)
