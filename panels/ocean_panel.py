@@ -138,6 +138,7 @@ class VIEW3D_PT_projgrid_waves(_OceanSubPanel, bpy.types.Panel):
         col.prop(s, "height_source")
         col.prop(s, "wind_speed")
         col.prop(s, "wind_direction")
+        col.prop(s, "gusts")
         col.prop(s, "choppiness")
         if s.height_source == "SPECTRUM":
             col.prop(s, "spectrum")

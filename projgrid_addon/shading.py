@@ -237,14 +237,18 @@ def pixel_footprint(proj, width):
     return float(np.log(PIXELS * pixel)), (0.0 if proj[3, 3] != 0.0 else 1.0)
 
 
-def filtering(proj, width, slopes, wind_speed):
-    """The Filtering of a source drawing `slopes` (Slopes) under a wind (m/s at 10 m)."""
+def filtering(proj, width, slopes, wind_speed, gusts=1.0):
+    """The Filtering of a source drawing `slopes` (Slopes) under a wind (m/s at 10 m) whose
+    gusts spread `gusts` times gust_spread's."""
+    if not gusts >= 0.0:
+        raise ValueError(f"gusts must be at least 0 (got {gusts})")
     pixel_log, power = pixel_footprint(proj, width)
     extra = max(cox_munk(wind_speed) - slopes.total, 0.0)
     ripple, floor, gain, gust_ = slopes.ripple, extra, 1.0, 0.0
     if ripple > 0.0:
         ripple, floor, gain = ripple + extra, 0.0, float(np.sqrt((ripple + extra) / ripple))
-        gust_ = (cox_munk(wind_speed + gust_spread(wind_speed)) - cox_munk(wind_speed)) / ripple
+        gusty = wind_speed + gusts * gust_spread(wind_speed)
+        gust_ = (cox_munk(gusty) - cox_munk(wind_speed)) / ripple
     return Filtering(pixel_log=pixel_log, distance_power=power, floor=floor, ripple=ripple,
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),

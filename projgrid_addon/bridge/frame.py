@@ -151,7 +151,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         volume_reach = (float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                         else 100.0)
         per_frame = shot.seconds_per_frame(the_scene)
-        water_colour, foam_colour, clarity = scene.look(settings)
+        water_colour, foam_colour, clarity, gusts = scene.look(settings)
         absorption = effects.absorption(clarity)
 
         # Build (thesis §2.4), decide the effects, compute the fields of those on.
@@ -180,7 +180,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                  (hf.layer.slopes(t), hf.layer.lookups(layer_origin),
                   [(b.level, b.top_log, b.bottom_log) for b in hf.layer.bands]))
         filtering = shading.filtering(cam.proj, shot.render_size(the_scene)[0], hf.slopes,
-                                      settings.wind_speed)
+                                      settings.wind_speed, gusts)
     except ValueError as e:
         mesh.empty(surface.data)
         return state.refused(str(e))

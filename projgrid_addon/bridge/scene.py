@@ -32,8 +32,9 @@ SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resol
             "projector_elevation", "noise", "wind_speed", "height_source", "spectrum",
             "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
             "swell_period", *effects.EFFECTS)
-# The ocean's look: colours and clarity written into our materials (part of a build's key).
-LOOK = ("water_colour", "foam_colour", "clarity")
+# The ocean's look: colours, clarity and gusts written into our materials (part of a build's
+# key).
+LOOK = ("water_colour", "foam_colour", "clarity", "gusts")
 # The effects whose AUTO decision looks at the objects in view (and the ON ones that use them).
 OBJECT_EFFECTS = ("contact_foam", "refraction", "caustics", "local_reflections")
 

@@ -135,6 +135,10 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     wind_speed: _float("Wind Speed", "Wind at 10 m above the sea: raises the waves of the "
                        "spectrum (and of the noise From Wind) and sets the foam's whitecap "
                        "coverage (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
+    gusts: _float("Gusts", "How much the wind varies in patches that drift with it, roughening "
+                  "and calming the ripples (cat's paws): 1 is the spread measured at sea, 0.4 "
+                  "m/s in a light breeze and 8 % of a stronger wind; 0: a steady wind",
+                  1.0, 0.0, 20.0, 4.0)
     water_colour: FloatVectorProperty(
         name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,
         default=water.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,

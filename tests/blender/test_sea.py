@@ -406,6 +406,24 @@ def test_the_noise_s_waves_are_as_long_as_the_core_says(extension):
         assert np.mean(measured) == pytest.approx(waves, rel=0.04), detail
 
 
+def test_the_gusts_setting_scales_the_gusts(sea):
+    """The panel's Gusts scales the wind's spread the water group is given (0: a steady
+    wind), and keyframed it animates."""
+    s = sea.projgrid
+    base = group_input(sea, "Gust Amplitude").default_value
+    assert base > 0.05
+    s.gusts = 2.0
+    assert group_input(sea, "Gust Amplitude").default_value == pytest.approx(2.0 * base)
+    s.gusts = 0.0
+    assert group_input(sea, "Gust Amplitude").default_value == 0.0
+    s.keyframe_insert("gusts", frame=1)
+    s.gusts = 1.0
+    s.keyframe_insert("gusts", frame=11)
+    bpy.context.scene.frame_set(6)
+    assert group_input(sea, "Gust Amplitude").default_value == pytest.approx(0.5 * base,
+                                                                             rel=0.02)
+
+
 def test_the_gusts_keep_the_sea_s_mean_slope(extension):
     """The gusts' noise over Blender's own noise: (Fac - 0.5) / water.GUST_FAC_STD is the
     local wind's departure in its standard deviations (its spread over four times is 1 within

@@ -630,6 +630,13 @@ def test_a_gust_roughens_the_ripples_as_cox_munk_says(u):
         == pytest.approx(1.0, abs=1e-9)
     # a pixel as wide as a patch shows the ripples' mean
     assert float(shading.gust(0.8, np.log(30.0), 1.0 / 30.0, f.gust, fac_std)) == 1.0
+    # the Gusts setting scales the spread: 0 is a steady wind
+    def scaled(gusts):
+        return shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 1920,
+                                 SpectralField(SeaState(wind_speed=u)).slopes, u, gusts).gust
+    assert scaled(2.0) == pytest.approx(2.0 * f.gust) and scaled(0.0) == 0.0
+    with pytest.raises(ValueError, match="gusts"):
+        scaled(-1.0)
 
 
 def test_bad_sea_states_name_the_setting():
