@@ -31,7 +31,7 @@ MATH = {
     "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
     "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
     "COSINE": lambda a, b, c: math.cos(a), "SINE": lambda a, b, c: math.sin(a),
-    "GREATER_THAN": lambda a, b, c: float(a > b), "TANH": lambda a, b, c: math.tanh(a),
+    "GREATER_THAN": lambda a, b, c: float(a > b),
 }
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
