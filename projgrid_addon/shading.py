@@ -11,6 +11,7 @@ variance of the shorter ones is the variance of a microfacet slope distribution,
 variance drawn plus the roughness is Cox and Munk's for the wind at every distance.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,6 +148,34 @@ def cox_munk(wind_speed):
     return 0.003 + 5.12e-3 * u
 
 
+# The most the gusts' amplitude (Filtering.gust) reaches: a lull then leaves a third of the sea
+# glassy. A source whose ripples hold little of Cox and Munk's slope would otherwise swing them
+# many times over.
+GUST_CAP = 2.0
+
+
+def gust_mean(amplitude):
+    """E[max(1 + amplitude z, 0)] over a standard normal z: the mean the lulls' clip at nought
+    lifts the ripples' factor to, which `gust` divides out (1 + 0.03 % at 0.5, 1.08 at 1)."""
+    a = float(amplitude)
+    if a <= 0.0:
+        return 1.0
+    return 0.5 * (1.0 + math.erf(1.0 / (a * math.sqrt(2.0)))) \
+        + a * math.exp(-0.5 / (a * a)) / math.sqrt(2.0 * math.pi)
+
+
+def wind_run(seconds, speeds, directions):
+    """How far the wind has blown by the last of `seconds` (from the first): its velocity
+    (m/s, toward radians counter-clockwise from +X) integrated by the trapezoid rule over the
+    samples, as (along X, along Y, path) in metres; the gusts drift by it."""
+    t = np.asarray(seconds, dtype=np.float64)
+    u = np.asarray(speeds, dtype=np.float64)
+    d = np.asarray(directions, dtype=np.float64)
+    v = np.stack([u * np.cos(d), u * np.sin(d), u])
+    run = (0.5 * (v[:, 1:] + v[:, :-1]) * np.diff(t)).sum(axis=1)
+    return tuple(float(x) for x in run)
+
+
 def gust_spread(wind_speed):
     """The standard deviation of the wind speed at 10 m (m/s) about its mean (m/s) over a
     smooth surface: 0.4 m/s up to 5 m/s, 8 % of the wind above ("Standard deviations of wind
@@ -221,10 +250,12 @@ class Filtering:
     facets_sharp_log: float = float(np.log(FACETS_SHARP))
     facets_mean_log: float = float(np.log(FACETS_MEAN))
     sun_reach: float = SUN_REACH
-    # The ripples' slope variance a gust one standard deviation (gust_spread) stronger than the
-    # mean wind adds, per unit of theirs: Cox and Munk's at the gust's wind less at the mean's
-    # (the longer waves, hours in the making, do not follow a gust; the ripples do in seconds).
+    # The ripples' slope variance a gust one standard deviation (Gusts times gust_spread)
+    # stronger than the mean wind adds, per unit of theirs: Cox and Munk's at the gust's wind
+    # less at the mean's (the longer waves, hours in the making, do not follow a gust; the
+    # ripples do in seconds), at most GUST_CAP; and 1 / gust_mean of it.
     gust: float = 0.0
+    gust_norm: float = 1.0
 
 
 def pixel_footprint(proj, width):
@@ -248,7 +279,7 @@ def filtering(proj, width, slopes, wind_speed, gusts=1.0):
     if ripple > 0.0:
         ripple, floor, gain = ripple + extra, 0.0, float(np.sqrt((ripple + extra) / ripple))
         gusty = wind_speed + gusts * gust_spread(wind_speed)
-        gust_ = (cox_munk(gusty) - cox_munk(wind_speed)) / ripple
+        gust_ = min((cox_munk(gusty) - cox_munk(wind_speed)) / ripple, GUST_CAP)
     return Filtering(pixel_log=pixel_log, distance_power=power, floor=floor, ripple=ripple,
                      ripple_gain=gain, density=slopes.density,
                      shortest_log=float(np.log(slopes.shortest)),
@@ -259,7 +290,8 @@ def filtering(proj, width, slopes, wind_speed, gusts=1.0):
                      layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
                      layer_density=(slopes.density if slopes.layer_density is None
                                     else slopes.layer_density),
-                     facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_)
+                     facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_,
+                     gust_norm=1.0 / gust_mean(gust_))
 
 
 def footprint_log(f, distance, cos_view=1.0):
@@ -283,15 +315,16 @@ def undrawn_share(top_log, bottom_log, footprint_log_):
 
 def gust(fac, footprint_log_, scale, amplitude, fac_std):
     """The factor on the ripples' slope variance where the gusts' noise (`scale` features per
-    metre, its Fac's spread `fac_std`) is `fac`: 1 + amplitude z, z = (fac - 0.5) / fac_std the
-    local wind's departure in standard deviations (`amplitude`: Filtering.gust), so its mean
-    over the symmetric noise is 1 (at least 0: a lull leaves the water flat, not negative),
-    faded to 1 as the footprint (ln m) nears a patch, an octave before, as the shader's noises
-    fade (cat's paws: the ripples answer the local wind within seconds)."""
+    metre, its Fac's spread `fac_std`) is `fac`: max(1 + amplitude z, 0) / gust_mean, z =
+    (fac - 0.5) / fac_std the local wind's departure in standard deviations (`amplitude`:
+    Filtering.gust; a lull leaves the water flat, not negative), so its mean over the noise is
+    1; faded to 1 as the footprint (ln m) nears a patch, an octave before, as the shader's
+    noises fade (cat's paws: the ripples answer the local wind within seconds)."""
     shown = np.clip((-np.log(scale) - np.asarray(footprint_log_, dtype=np.float64)) / np.log(2.0)
                     - 1.0, 0.0, 1.0)
     z = (np.asarray(fac, dtype=np.float64) - 0.5) / fac_std
-    return np.maximum(1.0 + shown * amplitude * z, 0.0)
+    local = np.maximum(1.0 + amplitude * z, 0.0) / gust_mean(amplitude)
+    return 1.0 + shown * (local - 1.0)
 
 
 def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None, gust_=1.0):

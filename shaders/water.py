@@ -49,7 +49,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (effects.caustic_tile)
-VERSION = 22  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 23  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -72,11 +72,11 @@ FOAM_EDGE = 0.5
 FOAM_STREAK = 4.0  # and this many times more across it
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 # Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and
-# the ripples answer it within seconds. Their slope variance is scaled by 1 + Gust Amplitude z,
-# z the local wind's departure in its standard deviations: a noise of GUST_SCALE features per
-# metre (Detail GUST_DETAIL; its Fac's spread GUST_FAC_STD, measured over its time). The noise
-# is symmetric, so the factor's mean over the sea is 1 and the sea's mean slope stays Cox and
-# Munk's (test_sea.py).
+# the ripples answer it within seconds. Their slope variance is scaled by max(1 + Gust
+# Amplitude z, 0) times Gust Norm, z the local wind's departure in its standard deviations: a
+# noise of GUST_SCALE features per metre (Detail GUST_DETAIL; its Fac's spread GUST_FAC_STD,
+# measured over its time). The factor's mean over the sea is 1, so the sea's mean slope stays
+# Cox and Munk's (test_sea.py).
 GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.088
 GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
@@ -111,8 +111,12 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Height", "NodeSocketFloat", 0.0),
     ("Ripple Octaves", "NodeSocketFloat", 0.0),
     ("Ripple Time", "NodeSocketFloat", 0.0),
-    ("Gust Drift", "NodeSocketFloat", 0.0),  # m the gusts have drifted with the wind
+    # m the gusts have drifted with the wind (shading.wind_run): along X, along Y, path
+    ("Gust Drift X", "NodeSocketFloat", 0.0),
+    ("Gust Drift Y", "NodeSocketFloat", 0.0),
+    ("Gust Path", "NodeSocketFloat", 0.0),
     ("Gust Amplitude", "NodeSocketFloat", 0.0),  # shading.Filtering.gust
+    ("Gust Norm", "NodeSocketFloat", 1.0),  # shading.Filtering.gust_norm
     ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
     ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
@@ -280,21 +284,23 @@ def _build(group):
                                         i["Detail Height"], i["Detail Top Log"])
     normal = g.node("ShaderNodeBump", {"Strength": g.math("MULTIPLY", lod_fade, strength),
                                        "Distance": height, "Height": fac}).outputs["Normal"]
-    # Gusts: the ripples' slope variance times 1 + Gust Amplitude z (GUST_SCALE above), faded
+    # Gusts: the ripples' slope variance times the gusts' factor (GUST_SCALE above), faded
     # out where a pixel's footprint nears a patch (as drawn_noise fades an octave: a patch that
     # no pixel shows would only shimmer), so far away the ripples' mean (shading.gust).
     wind = g.node("ShaderNodeCombineXYZ", {"X": g.math("COSINE", i["Wind Direction"]),
                                            "Y": g.math("SINE", i["Wind Direction"])}).outputs[0]
+    drift = g.node("ShaderNodeCombineXYZ", {"X": i["Gust Drift X"],
+                                            "Y": i["Gust Drift Y"]}).outputs[0]
     gust_noise = g.node("ShaderNodeTexNoise", {
-        "Vector": g.vector("SUBTRACT", geo["Position"], g.vector(
-            "SCALE", wind, Scale=i["Gust Drift"])),
-        "W": g.math("MULTIPLY", i["Gust Drift"], GUST_EVOLVE), "Scale": GUST_SCALE,
+        "Vector": g.vector("SUBTRACT", geo["Position"], drift),
+        "W": g.math("MULTIPLY", i["Gust Path"], GUST_EVOLVE), "Scale": GUST_SCALE,
         "Detail": GUST_DETAIL, "Roughness": 0.5}, noise_dimensions="4D").outputs["Fac"]
     gust_shown = g.math("SUBTRACT", g.math("DIVIDE", g.math(
         "SUBTRACT", -math.log(GUST_SCALE), footprint), LN2), 1.0, clamp=True)
-    gust = g.math("MAXIMUM", g.math("MULTIPLY_ADD", gust_shown, g.math("MULTIPLY", g.math(
-        "SUBTRACT", gust_noise, 0.5), g.math("DIVIDE", i["Gust Amplitude"], GUST_FAC_STD)),
-        1.0), 0.0)
+    local = g.math("MULTIPLY", g.math("MAXIMUM", g.math("MULTIPLY_ADD", g.math(
+        "SUBTRACT", gust_noise, 0.5), g.math("DIVIDE", i["Gust Amplitude"], GUST_FAC_STD),
+        1.0), 0.0), i["Gust Norm"])
+    gust = g.math("MULTIPLY_ADD", gust_shown, g.math("SUBTRACT", local, 1.0), 1.0)
     # Ripples shorter than any wave the sea synthesises, as far as a pixel shows them.
     strength, height, fac = drawn_noise(geo["Position"], i["Ripple Time"], i["Ripple Scale"],
                                         i["Ripple Octaves"], 0.5, g.math(
@@ -803,7 +809,7 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0, layer=(), sun_direction=None, gust_drift_per_frame=0.0):
+           foam_coverage=0.0, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
@@ -811,8 +817,9 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
     (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
     where a pixel outgrows a whitecap; the slope layer's bands ((level, top log, bottom log)
-    each; none: no layer); the unit vector toward the sun lamp (None: no sun, no glint); how
-    far the gusts drift with the wind per frame (m), by a driver like the times."""
+    each; none: no layer); the unit vector toward the sun lamp (None: no sun, no glint); the
+    gusts' drift along X, along Y and its path (m), each (per frame, offset) for a driver like
+    the times'."""
     node = mat.node_tree.nodes.get(GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -837,6 +844,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
         "Facets Mean Log": filtering.facets_mean_log, "Sun Reach": filtering.sun_reach,
         "Left Out Log": filtering.left_out_log, "Layer Top Log": filtering.layer_top_log,
         "Layer Density": filtering.layer_density, "Gust Amplitude": filtering.gust,
+        "Gust Norm": filtering.gust_norm,
         "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
     for b in range(1, LAYER_BANDS + 1):
         names = (f"Layer Level {b}", f"Layer Top Log {b}", f"Layer Bottom Log {b}")
@@ -853,19 +861,23 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
             float(v) for v in (sun_direction if sun_direction is not None else (0.0, 0.0, 0.0))))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
     drive_by_frame(mat.node_tree, inputs["Ripple Time"], ripple_time_per_frame)
-    if "Gust Drift" in inputs:
-        drive_by_frame(mat.node_tree, inputs["Gust Drift"], gust_drift_per_frame)
+    for name, (per_frame, offset) in zip(("Gust Drift X", "Gust Drift Y", "Gust Path"),
+                                         gust_drift, strict=True):
+        drive_by_frame(mat.node_tree, inputs[name], per_frame, offset)
 
 
-def drive_expression(per_frame):
+def drive_expression(per_frame, offset=0.0):
+    if offset:
+        return f"{float(offset)!r} + frame * {float(per_frame)!r}"
     return f"frame * {float(per_frame)!r}"
 
 
-def drive_by_frame(tree, socket, per_frame):
-    """A driver setting `socket`'s value to the frame (with its subframe) times `per_frame`,
-    written only when the rate changes (a simple expression: it runs where Python is blocked)."""
+def drive_by_frame(tree, socket, per_frame, offset=0.0):
+    """A driver setting `socket`'s value to `offset` plus the frame (with its subframe) times
+    `per_frame`, written only when it changes (a simple expression: it runs where Python is
+    blocked)."""
     path = socket.path_from_id("default_value")
-    expression = drive_expression(per_frame)
+    expression = drive_expression(per_frame, offset)
     curve = tree.animation_data.drivers.find(path) if tree.animation_data else None
     if curve is None:
         curve = socket.driver_add("default_value")

@@ -553,7 +553,7 @@ def _key_companion(companion, ocean, recorded):
             prop = f'["{FOLLOW[prop]}"]'
             frames = {f: int(v) for f, v in frames.items()}
         if _key_frames(target, prop, frames):
-            _hold(_bag_curves(target))
+            _hold(bag_curves(target))
 
 
 def _key_frames(target, prop, frames, value=lambda v: v):
@@ -602,7 +602,7 @@ def _animated(tree):
     data = tree.animation_data
     if data is None:
         return set()
-    return {d.data_path for d in data.drivers} | {c.data_path for c in _bag_curves(tree)}
+    return {d.data_path for d in data.drivers} | {c.data_path for c in bag_curves(tree)}
 
 
 def _key(tree, values):
@@ -611,12 +611,12 @@ def _key(tree, values):
     keyed = [path for path, frames in values.items()
              if _key_frames(tree.path_resolve(path.rsplit(".", 1)[0]), "default_value", frames,
                             lambda v: v[0] if len(v) == 1 else v)]
-    _hold(c for c in _bag_curves(tree) if c.data_path in keyed)
+    _hold(c for c in bag_curves(tree) if c.data_path in keyed)
     tree[KEYED] = keyed
 
 
-def _bag_curves(tree):
-    """The F-curves of `tree`'s action for it (none without one)."""
+def bag_curves(tree):
+    """The F-curves of `tree`'s (an ID's) action for it (none without one)."""
     bag = _channelbag(tree)
     return list(bag.fcurves) if bag is not None else []
 
@@ -675,7 +675,7 @@ def free(obj):
                 target.pop(key, None)
             if target.animation_data is None:
                 continue
-            action = target.animation_data.action if _bag_curves(target) else None
+            action = target.animation_data.action if bag_curves(target) else None
             if action is not None or len(target.animation_data.drivers):
                 target.animation_data_clear()
             if action is not None and action.users == 0:

@@ -216,7 +216,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                      settings.wind_direction,
                      effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0,
                      layer[2] if layer is not None else (), facts.sun_direction,
-                     settings.wind_speed * per_frame)
+                     gust_drift(ocean, the_scene, settings, per_frame))
         if layer is not None:
             water.update_layer(material, layer[0], layer[1], layer_origin)
     if making:
@@ -246,6 +246,33 @@ def effects_in_use():
         for effect, (active, _) in (state.effects or {}).items():
             on[effect] = on[effect] or active
     return on
+
+
+WIND_PATHS = ("projgrid.wind_speed", "projgrid.wind_direction")
+
+
+def gust_drift(ocean, the_scene, settings, per_frame):
+    """The gusts' drift along X, along Y and its path, each (per frame, offset) for the water
+    group's drivers: the wind's velocity now per frame, and with keyframed wind the offset
+    that makes the driver read the wind's run since frame 0 (shading.wind_run, its curves
+    sampled each frame) at this frame, so the patches move at the wind's speed as it changes
+    (a driver of rate times frame alone would move them at U + t dU/dt)."""
+    speed, direction = float(settings.wind_speed), float(settings.wind_direction)
+    rates = (speed * np.cos(direction) * per_frame, speed * np.sin(direction) * per_frame,
+             speed * per_frame)
+    curves = {c.data_path: c for c in bake.bag_curves(ocean) if c.data_path in WIND_PATHS}
+    if not curves:
+        return tuple((float(r), 0.0) for r in rates)
+    frame = the_scene.frame_current + the_scene.frame_subframe
+    frames = np.append(np.arange(0.0, frame, 1.0 if frame >= 0 else -1.0), frame)
+
+    def sampled(path, value):
+        curve = curves.get(path)
+        return [curve.evaluate(f) for f in frames] if curve is not None else [value] * len(frames)
+
+    run = shading.wind_run(frames * per_frame, sampled(WIND_PATHS[0], speed),
+                           sampled(WIND_PATHS[1], direction))
+    return tuple((float(r), float(w - r * frame)) for r, w in zip(rates, run, strict=True))
 
 
 def flat_warning(hf, result, settings):

@@ -136,8 +136,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                        "spectrum (and of the noise From Wind) and sets the foam's whitecap "
                        "coverage (Monahan and Mac Niocaill)", 3.0, 0.0, 100.0, 30.0, "VELOCITY")
     gusts: _float("Gusts", "How much the wind varies in patches that drift with it, roughening "
-                  "and calming the ripples (cat's paws): 1 is the spread measured at sea, 0.4 "
-                  "m/s in a light breeze and 8 % of a stronger wind; 0: a steady wind",
+                  "and calming the ripples (cat's paws): 1 is the spread measured over a smooth "
+                  "surface, 0.4 m/s in a light breeze and 8 % of a stronger wind; 0: a steady "
+                  "wind",
                   1.0, 0.0, 20.0, 4.0)
     water_colour: FloatVectorProperty(
         name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,

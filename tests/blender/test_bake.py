@@ -105,7 +105,7 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     assert not bridge.bake.is_baked(obj) and obj.projgrid.bake_camera == ""
     assert not [c for c in bpy.data.cache_files]
     tree = obj.data.materials[0].node_tree
-    assert bridge.bake.KEYED not in tree and not bridge.bake._bag_curves(tree)
+    assert bridge.bake.KEYED not in tree and not bridge.bake.bag_curves(tree)
     assert not [i for i in bpy.data.images if i.name.startswith("Projected Grid Bake")]
     scene.frame_set(2)
     assert len(obj.data.vertices) == 65 * 129  # rebuilt live again
@@ -357,7 +357,7 @@ def test_a_baked_ocean_keeps_its_keys_through_renders(moving, bridge, tmp_path):
         bridge.handlers.render_done(scene)
     tree = obj.data.materials[0].node_tree
     assert keyed and set(tree[bridge.bake.KEYED]) == keyed
-    assert keyed <= {c.data_path for c in bridge.bake._bag_curves(tree)}
+    assert keyed <= {c.data_path for c in bridge.bake.bag_curves(tree)}
 
 
 def test_a_frame_that_sees_no_water_bakes_empty(moving, bridge, tmp_path):
@@ -510,5 +510,5 @@ def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, 
     scene.frame_set(2)  # the live copy takes a material of its own: without the bake's keys
     mine, theirs = copy.data.materials[0].node_tree, obj.data.materials[0].node_tree
     assert mine != theirs and bridge.bake.KEYED not in mine
-    assert not {c.data_path for c in bridge.bake._bag_curves(mine)} & set(keyed)
-    assert set(keyed) <= {c.data_path for c in bridge.bake._bag_curves(theirs)}
+    assert not {c.data_path for c in bridge.bake.bag_curves(mine)} & set(keyed)
+    assert set(keyed) <= {c.data_path for c in bridge.bake.bag_curves(theirs)}

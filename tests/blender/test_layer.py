@@ -3,6 +3,7 @@ time is driven rather than written, and updates that cannot touch the sea are sk
 
 import bpy
 import numpy as np
+import pytest
 
 from .helpers import add_camera, add_ocean
 
@@ -48,15 +49,48 @@ def test_shader_time_is_driven_not_written(bridge):
         evaluated = mat.evaluated_get(bpy.context.evaluated_depsgraph_get())
         inputs = evaluated.node_tree.nodes["Projected Grid Water"].inputs
         values.append(inputs["Detail Time"].default_value)
-        drifts.append(inputs["Gust Drift"].default_value)
+        drifts.append(np.array([inputs[n].default_value
+                                for n in ("Gust Drift X", "Gust Drift Y", "Gust Path")]))
     detail = bridge.scene.height_field(obj.projgrid).shader_detail(
         *bridge.state.RUNTIME.state(obj).grid.shader_octaves)
     assert driver.expression == bridge.frame.water.drive_expression(
         detail.time_rate * bridge.shot.seconds_per_frame(scene))  # unchanged since frame 2
     seconds = 28 * bridge.shot.seconds_per_frame(scene)
     assert np.isclose(values[1] - values[0], detail.time_rate * seconds, rtol=1e-5)
-    # the gusts drift with the wind at its speed
-    assert np.isclose(drifts[1] - drifts[0], obj.projgrid.wind_speed * seconds, rtol=1e-5)
+    # the gusts drift with the wind at its speed, toward where it blows
+    s = obj.projgrid
+    assert drifts[1] - drifts[0] == pytest.approx(s.wind_speed * seconds * np.array(
+        [np.cos(s.wind_direction), np.sin(s.wind_direction), 1.0]), rel=1e-5, abs=1e-6)
+
+
+def test_the_gusts_drift_with_a_keyframed_wind(bridge):
+    """With the wind's speed and direction keyframed, the gusts have drifted by the wind's
+    run since frame 0 (its velocity integrated), not by its speed now times the time: a wind
+    rising from 4 to 12 m/s and turning a quarter over two seconds, read at frames 25 and 49
+    with a subframe, against the integral of its curves at 2400 steps."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    s = obj.projgrid
+    for frame, speed, direction in ((1, 4.0, 0.0), (49, 12.0, np.pi / 2)):
+        s.wind_speed, s.wind_direction = speed, direction
+        s.keyframe_insert("wind_speed", frame=frame)
+        s.keyframe_insert("wind_direction", frame=frame)
+    spf = bridge.shot.seconds_per_frame(scene)
+    curves = {c.data_path: c for c in bridge.bake.bag_curves(obj)}
+    for frame, subframe in ((25, 0.0), (49, 0.5)):
+        scene.frame_set(frame, subframe=subframe)
+        mat = obj.data.materials[0]
+        inputs = mat.evaluated_get(bpy.context.evaluated_depsgraph_get()).node_tree.nodes[
+            "Projected Grid Water"].inputs
+        drift = [inputs[n].default_value for n in ("Gust Drift X", "Gust Drift Y", "Gust Path")]
+        steps = np.linspace(0.0, frame + subframe, 2401)
+        u = np.array([curves["projgrid.wind_speed"].evaluate(f) for f in steps])
+        d = np.array([curves["projgrid.wind_direction"].evaluate(f) for f in steps])
+        want = [float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(steps * spf)))
+                for v in (u * np.cos(d), u * np.sin(d), u)]
+        assert drift == pytest.approx(want, rel=2e-3), (frame, subframe)
+    assert want[2] < 0.9 * s.wind_speed * (frame + subframe) * spf  # not speed now x time
 
 
 def test_updates_that_cannot_touch_the_sea_are_skipped(bridge, monkeypatch):

@@ -430,7 +430,8 @@ def test_the_gusts_keep_the_sea_s_mean_slope(extension):
     5 %), so the wind's spread is shading.gust_spread's; and at each time the ripples' factor
     at the strongest gusts' amplitude (a light wind's) has mean 1 within 2 %, so the sea's mean
     slope stays Cox and Munk's, with calm and gusty patches (a tenth of the sea beyond one
-    standard deviation each way)."""
+    standard deviation each way); at the cap (Gusts turned up), where lulls leave the water
+    flat, within 5 %."""
     water, core = extension.shaders.water, extension.projgrid_addon
     shading, proj = core.shading, core.camera.perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     amplitude = max(shading.filtering(proj, 960, core.spectral_field.SpectralField(
@@ -445,6 +446,10 @@ def test_the_gusts_keep_the_sea_s_mean_slope(extension):
         assert gust.mean() == pytest.approx(1.0, abs=0.02), w
         assert np.mean(gust < 1.0 - amplitude) > 0.1, w
         assert np.mean(gust > 1.0 + amplitude) > 0.1, w
+        # and where the lulls leave the water flat, at the gusts' cap
+        capped = shading.gust(fac, -10.0, water.GUST_SCALE, shading.GUST_CAP,
+                              water.GUST_FAC_STD)
+        assert capped.mean() == pytest.approx(1.0, abs=0.05), w
     assert np.mean(spreads) == pytest.approx(1.0, rel=0.05)
 
 
