@@ -143,7 +143,8 @@ CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0) for c in (0.05, 0
 def test_the_roughness_is_the_core_s(water, extension):
     """The lobe's roughness is the slope variance not drawn, less what the glint's facets
     draw of it (shading.facet_variance), which near the camera is not nothing; the gusts
-    scale the ripples' share by the core's factor (shading.gust) wherever their noise is."""
+    scale the ripples' share by the core's factor (shading.gust) wherever their noise is, and
+    the ripples' bump height by its root."""
     node, core = water
     shaders = extension.shaders.water
     values, f, _ = _settings(node, core)
@@ -151,7 +152,10 @@ def test_the_roughness_is_the_core_s(water, extension):
     tree = node.node_tree
     glossy = next(n for n in tree.nodes if n.bl_idname in (
         "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic") and n.inputs["Roughness"].is_linked)
-    seen, facets, gusts = set(), set(), set()
+    # the ripples' bump (the one bumping the detail's normal): its height by sqrt(gust)
+    ripples = next(n for n in tree.nodes
+                   if n.bl_idname == "ShaderNodeBump" and n.inputs["Normal"].is_linked)
+    seen, facets, gusts, bumped = set(), set(), set(), set()
     for (d, c, lod), sun, fac in zip(CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
                                      itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
                                      strict=False):
@@ -180,10 +184,17 @@ def test_the_roughness_is_the_core_s(water, extension):
         seen.add(round(want, 6))
         facets.add(round(facet, 6))
         gusts.add(round(gust, 3))
+        steady = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c))
+        height = steady.input(ripples.inputs["Distance"])
+        if height > 0.0:
+            assert ev.input(ripples.inputs["Distance"]) == pytest.approx(
+                height * math.sqrt(gust), rel=1e-5), (d, c, lod, fac)
+            bumped.add(round(gust, 3))
     assert len(seen) > 10  # the cases reach different parts of the formula
     assert len(facets) > 2 and max(facets) > 0.1 * f.ripple  # and the facets' share
     # and calm and gusty patches, beyond a standard deviation of the wind each way
     assert f.gust > 0.1 and min(gusts) < 1.0 - f.gust and max(gusts) > 1.0 + f.gust
+    assert min(bumped) < 0.95 and max(bumped) > 1.05  # bumps of calm and gusty patches
 
 
 def test_the_slope_layer_s_gains_are_the_core_s(water):
