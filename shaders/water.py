@@ -79,6 +79,7 @@ WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whiteca
 # Cox and Munk's (test_sea.py).
 GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.088
 GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
+GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
@@ -111,7 +112,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Ripple Height", "NodeSocketFloat", 0.0),
     ("Ripple Octaves", "NodeSocketFloat", 0.0),
     ("Ripple Time", "NodeSocketFloat", 0.0),
-    # m the gusts have drifted with the wind (shading.wind_run): along X, along Y, path
+    # m the gusts have drifted with the wind (shading.wind_run): GUST_DRIFT
     ("Gust Drift X", "NodeSocketFloat", 0.0),
     ("Gust Drift Y", "NodeSocketFloat", 0.0),
     ("Gust Path", "NodeSocketFloat", 0.0),
@@ -861,8 +862,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
             float(v) for v in (sun_direction if sun_direction is not None else (0.0, 0.0, 0.0))))
     drive_by_frame(mat.node_tree, inputs["Detail Time"], detail_time_per_frame)
     drive_by_frame(mat.node_tree, inputs["Ripple Time"], ripple_time_per_frame)
-    for name, (per_frame, offset) in zip(("Gust Drift X", "Gust Drift Y", "Gust Path"),
-                                         gust_drift, strict=True):
+    for name, (per_frame, offset) in zip(GUST_DRIFT, gust_drift, strict=True):
         drive_by_frame(mat.node_tree, inputs[name], per_frame, offset)
 
 
@@ -870,6 +870,12 @@ def drive_expression(per_frame, offset=0.0):
     if offset:
         return f"{float(offset)!r} + frame * {float(per_frame)!r}"
     return f"frame * {float(per_frame)!r}"
+
+
+def driven_value(expression, frame):
+    """What a `drive_expression` reads at `frame`."""
+    offset, _, per_frame = expression.rpartition("frame * ")
+    return float(offset.rstrip(" +") or 0.0) + frame * float(per_frame)
 
 
 def drive_by_frame(tree, socket, per_frame, offset=0.0):

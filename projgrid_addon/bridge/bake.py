@@ -65,6 +65,7 @@ class Recording:
     body_values: dict = field(default_factory=dict)  # as `values`
     godrays: dict = field(default_factory=dict)  # frame -> shown (the branch not muted)
     tiles: dict = field(default_factory=dict)  # frame -> caustic tile file name
+    drifts: dict = field(default_factory=dict)  # gust drift socket path -> {frame: expression}
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
     frames: str = ""  # a folder of each frame's mesh arrays (`keep`), read by the export
     replaying: bool = False  # the exporter runs: the frames are written from `frames`
@@ -343,6 +344,8 @@ def _record(recording, frame):
     if mat is None:
         return
     _record_sockets(mat.node_tree, recording.animated, recording.values, frame)
+    for path, curve in _drift_drivers(mat.node_tree).items():
+        recording.drifts.setdefault(path, {})[frame] = curve.driver.expression
     group = water.group_tree(mat)
     for node in group.nodes if group is not None else ():
         recording.muted.setdefault(node.name, {})[frame] = node.mute
@@ -475,7 +478,7 @@ def _play(obj, path, relative, recording):
     mat = water.material_of(obj.data)
     switched = False
     if mat is not None:
-        _key(mat.node_tree, recording.values)
+        _key(mat.node_tree, {**recording.values, **_drifts_keyed(mat.node_tree, recording)})
         water.play_layer_sequences(mat, {b: file(n) for b, n in recording.images.items()},
                                    recording.first, recording.last)
         for name, frames in recording.muted.items():
@@ -595,6 +598,30 @@ def _follow(companion, ocean, prop):
         var.name, var.type = name, "SINGLE_PROP"
         var.targets[0].id_type = "OBJECT"
         var.targets[0].id, var.targets[0].data_path = owner, path
+
+
+def _drift_drivers(tree):
+    """The drivers of the gusts' drift (water.GUST_DRIFT) in our material's tree, by path."""
+    node = tree.nodes.get(water.GROUP)
+    data = tree.animation_data
+    if node is None or data is None:
+        return {}
+    paths = [node.inputs[n].path_from_id("default_value") for n in water.GUST_DRIFT
+             if n in node.inputs]
+    return {p: c for p in paths if (c := data.drivers.find(p)) is not None}
+
+
+def _drifts_keyed(tree, recording):
+    """The drift's values per frame, in place of its drivers, where the driver changed over
+    the bake (a keyframed wind: each frame's reads the wind's run at that frame only, and a
+    baked sea has no frame handler to write the next), as `values` for `_key`."""
+    keyed = {}
+    for path, curve in _drift_drivers(tree).items():
+        frames = recording.drifts.get(path, {})
+        if len(set(frames.values())) > 1:
+            tree.animation_data.drivers.remove(curve)
+            keyed[path] = {f: (water.driven_value(e, f),) for f, e in frames.items()}
+    return keyed
 
 
 def _animated(tree):

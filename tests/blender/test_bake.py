@@ -113,6 +113,41 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
                for _, image in extension.shaders.water.layer_taps(obj.data.materials[0]))
 
 
+def test_a_keyframed_wind_s_gust_drift_is_baked(moving, bridge, extension, tmp_path):
+    """Under a keyframed wind each frame's drift driver reads the wind's run at that frame
+    only, and a baked sea has no frame handler to write the next: the bake keys each frame's
+    drift in place of the drivers, and plays what the live frames read; back to live, the
+    drivers again."""
+    scene, obj = moving
+    s = obj.projgrid
+    for frame, speed in ((1, 3.0), (3, 12.0)):
+        s.wind_speed = speed
+        s.keyframe_insert("wind_speed", frame=frame)
+    mat, group = obj.data.materials[0], extension.shaders.water.GROUP
+
+    def drift():
+        inputs = mat.evaluated_get(bpy.context.evaluated_depsgraph_get()).node_tree.nodes[
+            group].inputs
+        return [inputs[n].default_value for n in extension.shaders.water.GUST_DRIFT]
+
+    live = {}
+    for frame in (1, 2, 3):
+        scene.frame_set(frame)
+        live[frame] = drift()
+    assert live[3][2] - live[2][2] > 1.2 * (live[2][2] - live[1][2])  # the wind rises
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=3) == {"FINISHED"}
+    path = mat.node_tree.nodes[group].inputs["Gust Path"].path_from_id("default_value")
+    assert mat.node_tree.animation_data.drivers.find(path) is None
+    for frame in (3, 1, 2):
+        scene.frame_set(frame)
+        assert drift() == pytest.approx(live[frame], rel=1e-5, abs=1e-6), frame
+    assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
+    scene.frame_set(2)
+    assert mat.node_tree.animation_data.drivers.find(path) is not None
+    assert drift() == pytest.approx(live[2], rel=1e-5, abs=1e-6)
+
+
 @pytest.mark.parametrize("kwargs, setting", [
     (dict(frame_start=2, frame_end=1), "frame_start"),
     (dict(frame_start=0, frame_end=2), "frame_start, frame_end"),
