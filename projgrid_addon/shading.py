@@ -253,9 +253,13 @@ class Filtering:
     # The ripples' slope variance a gust one standard deviation (Gusts times gust_spread)
     # stronger than the mean wind adds, per unit of theirs: Cox and Munk's at the gust's wind
     # less at the mean's (the longer waves, hours in the making, do not follow a gust; the
-    # ripples do in seconds), at most GUST_CAP; and 1 / gust_mean of it.
+    # ripples do in seconds), at most GUST_CAP.
     gust: float = 0.0
-    gust_norm: float = 1.0
+
+    @property
+    def gust_norm(self):
+        """1 / gust_mean of the gusts' amplitude (the shader has no erf to compute it)."""
+        return 1.0 / gust_mean(self.gust)
 
 
 def pixel_footprint(proj, width):
@@ -290,8 +294,7 @@ def filtering(proj, width, slopes, wind_speed, gusts=1.0):
                      layer_top_log=float(np.log(slopes.layer_top or slopes.ripple_top)),
                      layer_density=(slopes.density if slopes.layer_density is None
                                     else slopes.layer_density),
-                     facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_,
-                     gust_norm=1.0 / gust_mean(gust_))
+                     facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_)
 
 
 def footprint_log(f, distance, cos_view=1.0):

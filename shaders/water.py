@@ -288,8 +288,6 @@ def _build(group):
     # Gusts: the ripples' slope variance times the gusts' factor (GUST_SCALE above), faded
     # out where a pixel's footprint nears a patch (as drawn_noise fades an octave: a patch that
     # no pixel shows would only shimmer), so far away the ripples' mean (shading.gust).
-    wind = g.node("ShaderNodeCombineXYZ", {"X": g.math("COSINE", i["Wind Direction"]),
-                                           "Y": g.math("SINE", i["Wind Direction"])}).outputs[0]
     drift = g.node("ShaderNodeCombineXYZ", {"X": i["Gust Drift X"],
                                             "Y": i["Gust Drift Y"]}).outputs[0]
     gust_noise = g.node("ShaderNodeTexNoise", {
@@ -392,6 +390,8 @@ def _build(group):
     # share stays the calibrated one. The noise is FOAM_STREAK times finer across the wind than
     # along it: the wind draws foam out into streaks.
     foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
+    wind = g.node("ShaderNodeCombineXYZ", {"X": g.math("COSINE", i["Wind Direction"]),
+                                           "Y": g.math("SINE", i["Wind Direction"])}).outputs[0]
     across = g.node("ShaderNodeCombineXYZ", {"X": g.math("MULTIPLY", g.math(
         "SINE", i["Wind Direction"]), -FOAM_STREAK), "Y": g.math("MULTIPLY", g.math(
             "COSINE", i["Wind Direction"]), FOAM_STREAK)}).outputs[0]

@@ -130,7 +130,7 @@ def _settings(node, core):
         layer_density=values["Layer Density"], left_out_log=values["Left Out Log"],
         facet_log=values["Facet Log"], facets_sharp_log=values["Facets Sharp Log"],
         facets_mean_log=values["Facets Mean Log"], sun_reach=values["Sun Reach"],
-        gust=values["Gust Amplitude"], gust_norm=values["Gust Norm"])
+        gust=values["Gust Amplitude"])
     bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
                                         values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
     return values, f, bands

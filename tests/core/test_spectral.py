@@ -618,8 +618,13 @@ def test_a_gust_roughens_the_ripples_as_cox_munk_says(u):
     Munk's 0.003 + 5.12e-3 U(12.5 m) grows by from the mean wind to the gust's (the longer
     waves unchanged), and a lull takes as much; the factor's mean is 1 over a symmetric noise."""
     spread = 0.4 if u <= 5.0 else 0.08 * u
-    f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 1920,
-                          SpectralField(SeaState(wind_speed=u)).slopes, u)
+    slopes = SpectralField(SeaState(wind_speed=u)).slopes
+
+    def filtering(gusts=1.0):
+        return shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 1920, slopes,
+                                 u, gusts)
+
+    f = filtering()
     fac_std = 0.1
     for z in (1.0, -1.0):
         factor = float(shading.gust(0.5 + z * fac_std, -10.0, 1.0 / 30.0, f.gust, fac_std))
@@ -633,13 +638,11 @@ def test_a_gust_roughens_the_ripples_as_cox_munk_says(u):
     # a pixel as wide as a patch shows the ripples' mean
     assert float(shading.gust(0.8, np.log(30.0), 1.0 / 30.0, f.gust, fac_std)) == 1.0
     # the Gusts setting scales the spread: 0 is a steady wind
-    def scaled(gusts):
-        return shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 1920,
-                                 SpectralField(SeaState(wind_speed=u)).slopes, u, gusts).gust
-    assert scaled(2.0) == pytest.approx(2.0 * f.gust) and scaled(0.0) == 0.0
-    assert scaled(100.0) == shading.GUST_CAP  # a swing of its ripples many times over: capped
+    assert filtering(2.0).gust == pytest.approx(2.0 * f.gust) and filtering(0.0).gust == 0.0
+    # a swing of its ripples many times over: capped
+    assert filtering(100.0).gust == shading.GUST_CAP
     with pytest.raises(ValueError, match="gusts"):
-        scaled(-1.0)
+        filtering(-1.0)
 
 
 def test_bad_sea_states_name_the_setting():
