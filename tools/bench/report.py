@@ -16,8 +16,8 @@ def _plt():
 
 
 def _spread(prefix="", unit="ms", fmt=".2f", label="ms"):
-    """Table columns for the 10th percentile and CPU time beside a median (rows measured before
-    they were recorded show nan)."""
+    """Table columns for the 10th percentile and CPU time beside a median (nan in a row that
+    lacks them)."""
     def column(kind):
         key = f"{prefix}{kind}_{unit}"
         return lambda r: r.get(key, float("nan"))
@@ -65,32 +65,12 @@ def _loglog_slope(x, y):
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
-# Measurements that shaped the code, kept here rather than in its docstrings. They were taken
-# once on this project's machines (2 cores, EEVEE on llvmpipe) and are not re-run by the bench.
+# The measurements behind design choices were taken once and are not re-run by the bench: they
+# live in docs/design.md, which the report points to.
 FINDINGS = [
     "## Findings behind the design", "",
-    "Measured once while building the feature named, on this project's 2-core machines; "
-    "`make bench` does not re-run them.", "",
-    "- **Caustic shadow caster** (`shaders/water.py`, shadow material): transparent shadows "
-    "through the whole water material made a 160×90 EEVEE still take 163 s; with a trivial "
-    "material of their own, 14 s. EEVEE evaluates a transparent shadow's whole node tree in "
-    "every shadow-map tile.",
-    "- **Refraction stays dithered**: EEVEE's blended render method took 7 minutes for a "
-    "320×180 still on the CPU, the dithered one 1 to 2.",
-    "- **Scratch buffers** (`projgrid_addon/scratch.py`): fresh NumPy temporaries, faulted in "
-    "page by page and handed back on free, cost as much as the arithmetic at 257² vertices.",
-    "- **Chunked passes** (`scratch.CHUNK`): building 1025×2049 in passes of 65,536 vertices "
-    "gave the same bits in 125–172 ms instead of 224–278 ms, and the core's peak memory fell "
-    "from 214 to 47 bytes a vertex (§9).",
-    "- **Band limit** (`band_limit.pseudo_log2`): the exact log2 per vertex cost five times the "
-    "bit-level one.",
-    "- **One thread**: summing odd octaves on a second thread measured slower on 2 cores (2.9 "
-    "against 2.0 ms at 65×129).",
-    "- **Object boxes**: `bound_box.foreach_get` reads a box 12× faster than "
-    "`np.array(obj.bound_box)`; printing the facts' repr as the rebuild key took 85 % of a "
-    "viewport update with 1000 objects (now a compact key).",
-    "- **Godray tile**: packing the 256² caustic image (so Blender never offers it as an unsaved "
-    "image) costs 1.5 ms a frame.",
+    "The measurements behind design choices, taken once while building the feature named and "
+    "not re-run by `make bench`, are in [design.md](design.md#measurements-behind-design-choices).",
     "",
 ]
 
@@ -142,9 +122,8 @@ def _rebuild(report):
             "257² rebuild ≤ 0.25 × the Ocean modifier", f"{ours / theirs:.2f} ×",
             ours / theirs <= 0.25,
             f"**257² at 0.25 × the Ocean modifier.** The modifier's {theirs:.1f} ms is compiled "
-            f"code; our {ours:.1f} ms is NumPy passes over 66k vertices on one thread (summing "
-            "odd octaves on a second thread measured slower on these 2 cores), plus Blender's "
-            "mesh update. A compiled kernel would be the way to 0.25 ×."))
+            f"code; our {ours:.1f} ms is NumPy passes over 66k vertices on one thread, plus "
+            "Blender's mesh update. A compiled kernel would be the way to 0.25 ×."))
 
 
 def _octaves(report):
@@ -178,8 +157,9 @@ def _octaves(report):
                         ms[8] <= 1.0,
                         f"**65×129 in 1 ms.** The grid alone (0 octaves) takes {ms[0]:.2f} ms: "
                         "about 150 NumPy calls on arrays of 4 to 129 elements (V_visible, "
-                        "aiming, range, corners, the band limit per row and column), each "
-                        "costing 1–3 µs of call overhead whatever its size. The octaves the "
+                        "aiming, range, corners, the band limit per row and column), "
+                        f"{ms[0] * 1e3 / 150:.1f} µs each on average, mostly call overhead "
+                        "whatever the size. The octaves the "
                         f"band limit keeps add {ms[8] - ms[0]:.2f} ms: per octave one blend of "
                         "a 64k-texel texture and about 20 NumPy passes over the vertices. "
                         "Reaching 1 ms needs a compiled kernel (a C extension or Numba), which "
@@ -283,14 +263,31 @@ def _precision(report):
                        ("stored relative to", "origin", ""),
                        ("max error, m", "max_error_m", ".2e"),
                        ("within 100 m, m", "near_max_error_m", ".2e"),
-                       ("max error / distance", "relative_to_reach", ".1e")]), "",
-           "Relative to the world origin, float32 stops being enough (centimetre errors next "
-           "to the camera) beyond about 1e5 m. The core therefore stores positions relative to "
-           "`snapped_origin` (the camera's position snapped to 1024 m), which keeps near vertices "
-           "sub-millimetre at any distance. In Blender the origin is the ocean object's "
-           "location, so a camera very far from the ocean object has the world-origin column's "
-           "error; keep the ocean object near the action (a follow-the-camera origin is a "
-           "planned improvement).", ""]
+                       ("max error / distance", "relative_to_reach", ".1e")]), ""]
+    world = sorted((r["distance"], r["near_max_error_m"]) for r in pr
+                   if r["origin"] == "world origin")
+    snapped = [r["near_max_error_m"] for r in pr if r["origin"] == "snapped origin"]
+    if world and snapped:
+        coarse = next(((d, e) for d, e in world if e >= 1e-3), None)
+        md += ["Relative to the world origin, the vertices within 100 m of the camera err by "
+               + (f"{_length(coarse[1])} with the camera {coarse[0]:.0e} m from it and by "
+                  if coarse is not None and coarse[0] != world[-1][0] else "")
+               + f"{_length(world[-1][1])} at {world[-1][0]:.0e} m. The core therefore stores "
+               "positions relative to `snapped_origin` (the camera's position snapped to "
+               f"1024 m), where they err by at most {_length(max(snapped))} at every distance "
+               "measured. In Blender the origin is the ocean object's location, so a camera "
+               "very far from the ocean object has the world-origin column's error; keep the "
+               "ocean object near the action (a follow-the-camera origin is a planned "
+               "improvement).", ""]
+
+
+def _length(metres):
+    """A small length in the unit that reads best: µm, mm or cm."""
+    if metres >= 0.01:
+        return f"{metres * 100:.1f} cm"
+    if metres >= 0.001:
+        return f"{metres * 1000:.1f} mm"
+    return f"{metres * 1e6:.0f} µm"
 
 
 def _efficiency(report):
@@ -332,10 +329,10 @@ def _efficiency(report):
                            ("changes", "changes", ".0%")]), ""]
 
 
-# §6 before the filtering from geometry to BRDF (the run of commit 8a8513a, same machine and
-# shot): seconds per render of the water group and of a plain glossy plane at 16 samples. The
-# filtering's cost is judged by the water group's time over the plain glossy's, measured side
-# by side in each run.
+# §6 without the filtering from geometry to BRDF: seconds per render of the water group and of a
+# plain glossy plane at 16 samples, the same shot, stored from one earlier run on another
+# machine (an Intel Xeon): the bench renders no unfiltered water. The filtering's cost is judged
+# by the water group's time over the plain glossy's, which each run measures side by side.
 BEFORE_FILTERING = {"water group": 13.17, "plain glossy": 9.21}
 
 
@@ -373,18 +370,17 @@ def _render(report):
             f"{now / before:.3f}×", now / before <= 1.1,
             "**Filtering's render cost.** The per-pixel roughness, mean Fresnel and the bumps' "
             f"fades take the water group to {now:.2f}× a plain glossy plane's render time, "
-            f"against {before:.2f}× before them (a ratio stored from another run, on another "
-            "machine: an Intel Xeon, where this target last read 0.97× at 77b2f14). Since then "
-            "the water seen from above became lit (a diffuse lobe in place of an emission, so "
-            "a dusk sea darkens): a probe at 09757b6 measured it at 1.05× the emission's time "
-            "(the default shot, 320×180, 16 samples: 17.0 s against 16.2 s, median of four "
-            "interleaved renders; 10th percentile 16.1 and 14.8 s; CPU 29.1 and 27.1 s)."))
+            f"against {before:.2f}× for the water without them (BEFORE_FILTERING: a ratio "
+            "stored from one run on another machine, not re-measured)."))
+        err16 = {r["material"]: r["rms_error"] for r in rr if r["samples"] == 16}
         md += [f"The water group renders in {now:.2f}× a plain glossy plane's time at 16 "
-               f"samples; before the filtering from geometry to BRDF, {before:.2f}× (commit "
-               "8a8513a's run). Its error at few samples is mostly the sun glint's facets "
+               "samples; without the filtering from geometry to BRDF the ratio is "
+               f"{before:.2f}× (stored from one earlier run on another machine, not "
+               "re-measured). Its error at few samples is mostly the sun glint's facets "
                "(shading.facet_variance), sparkles EEVEE's samples find: the glitter path "
-               "converges more slowly than a smooth sheen would (at 734955e the error at 16 "
-               "samples rose from 0.0023 to 0.0077, at 1 sample from 0.025 to 0.054).", ""]
+               "converges more slowly than a smooth sheen would (at 16 samples "
+               f"{err16['water group']:.4f} against the plain glossy's "
+               f"{err16['plain glossy']:.4f}).", ""]
     fl = results.get("flicker")
     if fl:
         md += ["### Filtering: flicker toward the horizon", "",
@@ -443,15 +439,21 @@ def _render(report):
             against = {"supersampled": "the supersampled picture's (8 × 8 times the pixels)",
                        "converged": "the converged picture's (every wave drawn, 64 samples)",
                        }.get(truth["variant"], "the unfiltered picture's at equal samples")
+            mirror = by.get("converged")
+            if mirror is not None and truth is not mirror:
+                share = by["filtered"]["near_contrast"] / max(mirror["near_contrast"], 1e-9)
+                mirrored = (f"It has {share:.0%} of the 64-sample mirror's contrast, but that "
+                            "mirror")
+            else:
+                mirrored = "The 64-sample mirror is no ground truth: it"
             report.targets.append(Target(
                 f"Near-field contrast kept by the filtering ({shot})", f"{kept:.2f}×",
                 kept >= 0.9,
                 f"**Near-field contrast, {shot}.** Filtered, the water below the far band has "
-                f"{kept:.0%} of {against} contrast. Against the 64-sample mirror it keeps "
-                "about half, but that mirror has no roughness for the waves shorter than a "
-                "pixel (Blender's bump takes slopes across a pixel: at 8 × 8 times the pixels "
-                "the mirror's contrast stays where it was), so Cox and Munk's slopes, which "
-                "the filtered sea carries, are missing there. Against the supersampled "
+                f"{kept:.0%} of {against} contrast. {mirrored} has no roughness for the waves "
+                "shorter than a pixel (Blender's bump takes slopes across a pixel, however "
+                "many pixels), so Cox and Munk's slopes, which the filtered sea carries, are "
+                "missing there. Against the supersampled "
                 "picture the rest lies in how waves between an eighth of a pixel and the "
                 "footprint shade as roughness rather than as normals (Bruneton's mean Fresnel "
                 "is a fit)."))
@@ -561,16 +563,9 @@ def _sea(report):
         "**The spectral sea against the Ocean modifier.** Ours synthesises its FFT tiles "
         "(a dozen cascades of 64² and 128², height and choppy displacement), samples them at "
         "every vertex with the band limit, and takes the whitecaps' folding from the "
-        "displaced grid itself (differences between neighbouring vertices), all in NumPy on "
-        "one thread; the modifier's single 2^16 tile is compiled and multi-threaded. Taking "
-        "the folding from the grid instead of three more fields per tile, and float32 sines, "
-        "took the frame from 51 to about 37 ms; a real inverse transform per field of the "
-        "tiles' Hermitian half-lattice (was two complex transforms of the whole lattice) and "
-        "texel coordinates in single precision from a nearby origin took the core frame from "
-        "29 to 26 ms (1.29 × to 1.11 ×); the slope layer's three tiles and images add about "
-        "1.5 ms (runs at fae0e46 and 4787275 measured 1.17 × and 1.04 ×: this VM's load "
-        "moves the ratio that much). Threads over tiles and rows gained 5 % (NumPy's pieces "
-        "are too small to share two cores) and were left out. The per-second foam "
+        "displaced grid itself (differences between neighbouring vertices), all in NumPy, "
+        "only the tiles' transforms on several threads; the modifier's single 2^16 tile is "
+        "compiled and multi-threaded. The per-second foam "
         "calibration is made ahead on a second thread in the viewport (below), so its CPU "
         "time shows in this table's CPU column but not in the frame's wall time."))
     playback = results.get("playback")
