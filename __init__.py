@@ -8,7 +8,7 @@ package of the repository root, and the core's tests must run without bpy.
 def _modules():
     """Registered in this order, unregistered in exact reverse."""
     from . import operators, panels
-    from .projgrid_addon.bridge import handlers, settings
+    from .operators.bridge import handlers, settings
 
     return (settings, operators, panels, handlers)
 

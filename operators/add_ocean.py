@@ -2,28 +2,13 @@
 
 import bpy
 
-from ..projgrid_addon import sea_states
-from ..projgrid_addon.bridge import companions, frame, handlers, settings
-from ..shaders import sky, water
+from ..shaders import materials as shader_materials
+from ..shaders import sky
 from ..shaders.nodes import TAG
+from .bridge import companions, frame, handlers, settings
 
 # A new ocean is the spectral sea at this Beaufort force: a moderate breeze, 1 m waves.
 DEFAULT_FORCE = 4
-
-
-def apply_sea_state(s, force):
-    """Set the settings `s` (obj.projgrid) to Beaufort `force`, with one rebuild after (by the
-    caller): the spectral sea's wind, fetch, choppiness and swell, and the noise's height and
-    wavelength for the same sea at the noise's own octaves and roughness."""
-    preset = sea_states.sea_state(force, s.wind_direction)
-    with settings.batch():
-        s.height_source = "SPECTRUM"
-        s.wind_speed, s.fetch, s.choppiness = preset.wind_speed, preset.fetch, preset.choppiness
-        s.swell_height, s.swell_period = preset.swell_height, preset.swell_period
-        s.swell_direction = sea_states.swell_direction(s.wind_direction)
-        s.amplitude, s.wave_scale = sea_states.noise_waves(
-            preset.wind_speed, preset.fetch, s.spectrum, s.octaves, s.roughness)
-    return preset
 
 
 def has_sun(scene):
@@ -46,11 +31,11 @@ class PROJGRID_OT_add_ocean(bpy.types.Operator):
         collection = context.collection or scene.collection
         mesh = bpy.data.meshes.new("Ocean")
         mesh[TAG] = True
-        mesh.materials.append(water.material())
+        mesh.materials.append(shader_materials.material())
         obj = bpy.data.objects.new("Ocean", mesh)
         obj.projgrid.is_ocean = True
         obj.location = scene.cursor.location
-        apply_sea_state(obj.projgrid, DEFAULT_FORCE)
+        settings.apply_sea_state(obj.projgrid, DEFAULT_FORCE)
         with settings.batch():
             obj.projgrid.noise_from_wind = True  # the noise, if chosen, follows the wind too
         # Grid vertices do not correspond across frames: no deformation motion blur.

@@ -1,5 +1,5 @@
 """Bake: the ocean's frames written into a USD mesh cache that it then plays, so the file renders
-on farms that run no scripts and in other packages (projgrid_addon/bridge/bake.py). From the
+on farms that run no scripts and in other packages (operators/bridge/bake.py). From the
 interface it runs frame by frame, Esc cancelling; from a script or the command line, at once."""
 
 import os
@@ -7,7 +7,7 @@ import os
 import bpy
 from bpy.props import BoolProperty, IntProperty, StringProperty
 
-from ..projgrid_addon.bridge import bake, scene
+from .bridge import bake, scene
 
 
 class PROJGRID_OT_bake(bpy.types.Operator):

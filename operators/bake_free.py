@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..projgrid_addon.bridge import bake, frame, scene
+from .bridge import baked, frame, scene
 
 
 class PROJGRID_OT_bake_free(bpy.types.Operator):
@@ -15,11 +15,11 @@ class PROJGRID_OT_bake_free(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         obj = scene.active_ocean(context)
-        return obj is not None and obj.library is None and bake.is_baked(obj)
+        return obj is not None and obj.library is None and baked.is_baked(obj)
 
     def execute(self, context):
         obj = scene.active_ocean(context)
-        bake.free(obj)
+        baked.free(obj)
         frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
         self.report({"INFO"}, f"{obj.name!r} is live again")
         return {"FINISHED"}

@@ -8,8 +8,8 @@ scene camera in camera view, whenever the view or the frame changes.
 import bpy
 import numpy as np
 
-from ..projgrid_addon.bridge import frame, scene
-from ..projgrid_addon.bridge.state import RUNTIME
+from .bridge import frame, scene
+from .bridge.state import RUNTIME
 
 STATUS = "Ocean live preview: Esc or right-click to stop"
 

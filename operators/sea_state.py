@@ -4,8 +4,7 @@ import bpy
 from bpy.props import IntProperty
 
 from ..projgrid_addon import spectrum
-from ..projgrid_addon.bridge import frame, scene
-from .add_ocean import apply_sea_state
+from .bridge import frame, scene, settings
 
 
 class PROJGRID_OT_sea_state(bpy.types.Operator):
@@ -27,7 +26,7 @@ class PROJGRID_OT_sea_state(bpy.types.Operator):
     def execute(self, context):
         obj = scene.active_ocean(context)
         source = obj.projgrid.height_source
-        preset = apply_sea_state(obj.projgrid, self.beaufort)
+        preset = settings.apply_sea_state(obj.projgrid, self.beaufort)
         obj.projgrid.height_source = source  # the waves' kind is the user's
         frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
         height = spectrum.significant_height(spectrum.SeaState(

@@ -4,9 +4,9 @@ settings."""
 
 import bpy
 
+from ..operators.bridge import baked, frame, scene
+from ..operators.bridge.state import RUNTIME
 from ..projgrid_addon import effects, sea_states
-from ..projgrid_addon.bridge import bake, frame, scene
-from ..projgrid_addon.bridge.state import RUNTIME
 
 active_ocean = scene.active_ocean
 
@@ -44,7 +44,7 @@ def stats_lines(obj, the_scene):
 
 def bake_lines(obj, the_scene):
     """The panel's lines about an ocean's bake (none while it is live)."""
-    mod = bake.cache_modifier(obj)
+    mod = baked.cache_modifier(obj)
     if mod is None:
         return []
     start, end = obj.projgrid.bake_frames
@@ -52,7 +52,7 @@ def bake_lines(obj, the_scene):
     lines = [("FILE_CACHE", f"Plays its bake: frames {start}-{end} for camera "
                             f"{obj.projgrid.bake_camera!r}"),
              ("FILE", path)]
-    why = bake.stale(the_scene, obj)
+    why = baked.stale(the_scene, obj)
     if why:
         lines.append(("ERROR", f"Out of date: {why}; bake again or go back to live"))
     return lines

@@ -4,7 +4,8 @@ from . import memory
 from .band_limit import octave_weights
 from .camera import Camera, look_at, orthographic, perspective
 from .displaceable_volume import bound_planes, visible_volume_points
-from .height_field import HeightField, NoiseTiles
+from .height_field import HeightField
+from .noise_tiles import NoiseTiles
 from .projected_grid import (
     GridResult,
     build_grid,

@@ -7,12 +7,13 @@ used, so a point's value depends on nothing but its coordinates, bit for bit.
 Within one pair of time slices k, k+1 the noise is linear in two 2D fields per slice:
     noise(x, y, z) = (1 - s)(A_k + f B_k) + s (A_k+1 + (f - 1) B_k+1),  f = z - k,  s = fade(f)
 where A_k interpolates the gradients' xy part and B_k their z part. The exact path evaluates that
-per point; the texture path (height_field.NoiseTiles) renders A_k, B_k once per slice.
+per point; the texture path (noise_tiles.NoiseTiles) renders A_k, B_k once per slice.
 """
 
 import numpy as np
 
 PERIOD = 32
+MAX_OCTAVES = 24  # the most octaves a HeightField sums
 # sup |noise| over every point and every assignment of gradients, found by dense search and local
 # refinement (1.0363538...), rounded up; tests/core/test_height_field.py re-checks it.
 NOISE_BOUND = 1.0364

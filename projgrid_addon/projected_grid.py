@@ -168,6 +168,20 @@ def grid_derivative(a, axis):
     return out
 
 
+def grid_area(x, y):
+    """The signed area a grid cell's step spans, (dP/dj x dP/di)_z of points x, y (rows,
+    columns), by `grid_derivative`: positive where the grid is counter-clockwise."""
+    d = grid_derivative
+    return d(x, 1) * d(y, 0) - d(x, 0) * d(y, 1)
+
+
+def grid_jacobian(base, moved):
+    """det(d moved / d(i, j)) / det(d base / d(i, j)) over a grid: x and y (rows, columns)."""
+    area = grid_area(base[0], base[1])
+    return np.divide(grid_area(moved[0], moved[1]), area, out=np.ones_like(area),
+                     where=area != 0.0)
+
+
 def grid_normals(x, y, z):
     """Unit normals from the neighbours in u and v (§3.1.1 step 4), on (ny, nx) arrays.
 

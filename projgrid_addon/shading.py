@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .look import FOAM_EDGE
+
 # The standard deviation of Blender's noise texture Fac (4D, Detail 2, roughness 0.5), measured
 # in an EEVEE render of 400 features: a bump of Distance d moves the surface by 0.072 d (rms).
 NOISE_FAC_STD = 0.072
@@ -64,7 +66,6 @@ class Detail:
     time_rate: float
 
 
-FOAM_EDGE = 0.5  # as the shader's (shaders/water.py)
 BOWLING = (1.5976, 0.070566)  # the normal CDF as 1 / (1 + e^-(a z + b z^3)), error ~1e-4
 
 

@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .spectral_field import (
+from .cascade import (
     BANDS,
     LAYER_FIRST,
     SAMPLES_PER_WAVE,

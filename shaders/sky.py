@@ -12,6 +12,7 @@ import math
 
 import bpy
 
+from ..projgrid_addon.look import SUN_ELEVATION, SUN_STRENGTH
 from .nodes import TAG, Graph, empty_tree
 
 WORLD = "Projected Grid Sky"
@@ -20,7 +21,6 @@ SUN = "Projected Grid Sun"
 GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
             (1.0, (0.08, 0.20, 0.55)))
 RAMP_Z = (-0.1, 1.0)  # the view direction's height mapped onto the ramp's 0 to 1
-SUN_ELEVATION, SUN_STRENGTH = 12.0, 3.0  # degrees, W/m^2: Add Ocean's sun lamp
 BACKGROUND = "Background"  # the world's Background node: its Strength scales the sky
 GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun (0: no sun)
 GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)

@@ -39,8 +39,8 @@ def fresh_file(extension):
 
 @pytest.fixture
 def bridge(extension):
-    """The Blender layer's package (projgrid_addon.bridge: scene, frame, state, ...)."""
-    return extension.projgrid_addon.bridge
+    """The Blender layer's package (operators.bridge: scene, frame, state, ...)."""
+    return extension.operators.bridge
 
 
 @pytest.fixture

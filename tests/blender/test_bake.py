@@ -68,7 +68,7 @@ def test_a_baked_ocean_plays_its_frames_without_the_extension(moving, bridge, tm
     want = {f: live(scene, obj, bridge, f) for f in (1, 2, 3)}
     path = str(tmp_path / "sea.usdc")
     assert bpy.ops.projgrid.bake(filepath=path, frame_start=1, frame_end=3) == {"FINISHED"}
-    assert bridge.bake.is_baked(obj) and os.path.exists(path)
+    assert bridge.baked.is_baked(obj) and os.path.exists(path)
     assert not [f for f in os.listdir(tmp_path) if "partial" in f]
     assert scene.frame_start == 1 and scene.frame_end == 3  # the scene as it was
     assert not [m for m in obj.modifiers if m.type == "NODES"]  # the exporter's timer gone
@@ -102,15 +102,15 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     assert lines[-1] == ("ERROR", "Out of date: baked frames 1-2, the scene renders 1-3; "
                                   "bake again or go back to live")
     assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
-    assert not bridge.bake.is_baked(obj) and obj.projgrid.bake_camera == ""
+    assert not bridge.baked.is_baked(obj) and obj.projgrid.bake_camera == ""
     assert not [c for c in bpy.data.cache_files]
     tree = obj.data.materials[0].node_tree
-    assert bridge.bake.KEYED not in tree and not bridge.bake.bag_curves(tree)
+    assert bridge.baked.KEYED not in tree and not bridge.baked.bag_curves(tree)
     assert not [i for i in bpy.data.images if i.name.startswith("Projected Grid Bake")]
     scene.frame_set(2)
     assert len(obj.data.vertices) == 65 * 129  # rebuilt live again
     assert all(image.name.startswith("Projected Grid Slopes")
-               for _, image in extension.shaders.water.layer_taps(obj.data.materials[0]))
+               for _, image in extension.shaders.materials.layer_taps(obj.data.materials[0]))
 
 
 def test_a_keyframed_wind_s_gust_drift_is_baked(moving, bridge, extension, tmp_path):
@@ -170,7 +170,7 @@ def test_bad_input_leaves_the_ocean_live(moving, bridge, tmp_path, kwargs, setti
               **kwargs}
     with pytest.raises(RuntimeError, match=f"Bake not made.*{setting}: "):
         bpy.ops.projgrid.bake(**kwargs)
-    assert not bridge.bake.is_baked(obj) and not obj.modifiers
+    assert not bridge.baked.is_baked(obj) and not obj.modifiers
     assert not os.listdir(tmp_path)
 
 
@@ -188,7 +188,7 @@ def test_a_cancelled_bake_leaves_the_ocean_live_and_nothing_behind(moving, bridg
     kept = np.load(tmp_path / frames / "1.npz")
     assert np.allclose(kept["position"], want, rtol=1e-6, atol=1e-5)  # the render's mesh
     job.cancel()
-    assert bridge.state.RUNTIME.baking is None and not bridge.bake.is_baked(obj)
+    assert bridge.state.RUNTIME.baking is None and not bridge.baked.is_baked(obj)
     assert not obj.modifiers and not os.listdir(tmp_path)
     assert scene.frame_current == 2 and np.array_equal(positions(obj.data), viewport)
 
@@ -206,7 +206,7 @@ def test_the_export_only_writes_the_frames_built(moving, bridge, monkeypatch, tm
         pass
     assert built == [False, False]
     job.finish()
-    assert True not in built and bridge.bake.is_baked(obj)
+    assert True not in built and bridge.baked.is_baked(obj)
 
 
 class Interactive:
@@ -246,11 +246,11 @@ def test_the_interface_bakes_frame_by_frame_and_esc_cancels(moving, bridge, exte
     assert op.reports == [("INFO", "Bake cancelled at frame 2: the ocean is live and no file "
                                    "was written")]
     assert op.status[-1] is None and not op.timers  # the status bar and the timer given back
-    assert not bridge.bake.is_baked(obj) and not os.listdir(tmp_path)
+    assert not bridge.baked.is_baked(obj) and not os.listdir(tmp_path)
     op = Interactive(extension, bridge.bake.Bake(bpy.context, obj, path, 1, 2))
     assert op.send("TIMER") == op.send("TIMER") == {"RUNNING_MODAL"}
     assert op.status[-1].startswith("Baking 'Ocean': writing the USD file") and op._writing
-    assert op.send("TIMER") == {"FINISHED"} and bridge.bake.is_baked(obj)
+    assert op.send("TIMER") == {"FINISHED"} and bridge.baked.is_baked(obj)
     assert op.reports[0][0] == "INFO"
     assert op.reports[0][1].startswith(f"Baked 'Ocean', frames 1-2, into {path} (")
     assert op.status[-1] is None and not op.timers
@@ -359,10 +359,10 @@ def test_a_failed_export_leaves_the_ocean_live_and_nothing_behind(moving, bridge
     (tmp_path / "sea.partial.usdc").mkdir()  # the exporter cannot write its file
     with pytest.raises(RuntimeError, match="Bake not made"):
         bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
-    assert not bridge.bake.is_baked(obj) and not obj.modifiers
+    assert not bridge.baked.is_baked(obj) and not obj.modifiers
     assert not [n for n in os.listdir(tmp_path) if n != "sea.partial.usdc"]
     assert bpy.data.node_groups.get(bridge.bake.TIMER) is None
-    assert bpy.data.images.get(bridge.bake.SCRATCH) is None
+    assert bpy.data.images.get(bridge.bake_record.SCRATCH) is None
 
 
 def test_a_full_disk_leaves_the_ocean_live_and_nothing_behind(moving, bridge, monkeypatch,
@@ -372,11 +372,11 @@ def test_a_full_disk_leaves_the_ocean_live_and_nothing_behind(moving, bridge, mo
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(bridge.bake.np, "savez", full)
+    monkeypatch.setattr(bridge.bake_record.np, "savez", full)
     scene.frame_set(2)
     with pytest.raises(RuntimeError, match="Bake not made.*keeping frame 1 failed: No space"):
         bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
-    assert not bridge.bake.is_baked(obj) and not obj.modifiers and not os.listdir(tmp_path)
+    assert not bridge.baked.is_baked(obj) and not obj.modifiers and not os.listdir(tmp_path)
     assert bridge.state.RUNTIME.baking is None and scene.frame_current == 2
 
 
@@ -386,13 +386,13 @@ def test_a_baked_ocean_keeps_its_keys_through_renders(moving, bridge, tmp_path):
     scene, obj = moving
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=3) == {"FINISHED"}
-    keyed = set(obj.data.materials[0].node_tree[bridge.bake.KEYED])
+    keyed = set(obj.data.materials[0].node_tree[bridge.baked.KEYED])
     for _ in range(2):
         bridge.handlers.render_init(scene)
         bridge.handlers.render_done(scene)
     tree = obj.data.materials[0].node_tree
-    assert keyed and set(tree[bridge.bake.KEYED]) == keyed
-    assert keyed <= {c.data_path for c in bridge.bake.bag_curves(tree)}
+    assert keyed and set(tree[bridge.baked.KEYED]) == keyed
+    assert keyed <= {c.data_path for c in bridge.baked.bag_curves(tree)}
 
 
 def test_a_frame_that_sees_no_water_bakes_empty(moving, bridge, tmp_path):
@@ -423,7 +423,7 @@ def test_an_ocean_drawn_by_stand_ins_is_refused(moving, bridge, tmp_path):
     scene.collection.objects.link(holder)
     with pytest.raises(RuntimeError, match="Bake not made.*object: 'Ocean' shows more than"):
         bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1, frame_end=2)
-    assert not bridge.bake.is_baked(obj) and not os.listdir(tmp_path)
+    assert not bridge.baked.is_baked(obj) and not os.listdir(tmp_path)
 
 
 COMPANIONS_FRESH = textwrap.dedent("""
@@ -492,7 +492,7 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
         assert np.allclose(pixels, tiles[f], rtol=2e-3, atol=1e-3)  # (half floats)
     assert list(seen["tile"]) == [True, True, 1, 2]
     assert list(seen["hidden"]) == [True, True]
-    assert bridge.bake.free(obj)  # (the operator's live update would mend the tile anyway)
+    assert bridge.baked.free(obj)  # (the operator's live update would mend the tile anyway)
     assert body.animation_data is None and not obj.projgrid.shadow_caster.modifiers
     tree = body.data.materials[0].node_tree
     assert tuple(tree.nodes["Caustic Tile"].image.size) == (256, 256)
@@ -507,19 +507,19 @@ def test_no_calibration_runs_beside_the_export(moving, bridge, extension, monkey
     finished before Blender's exporter starts, and none starts while it runs (a worker beside
     the export crashed Blender 4.5)."""
     scene, obj = moving
-    effects = extension.projgrid_addon.effects
-    slow = effects._calibrate_into
+    foam = extension.projgrid_addon.foam
+    slow = foam._calibrate_into
 
     def calibrate(*args):
         time.sleep(0.3)
         return slow(*args)
 
-    monkeypatch.setattr(effects, "_calibrate_into", calibrate)
-    seen, progress = [], bridge.bake.progress
-    monkeypatch.setattr(bridge.bake, "progress", lambda frame: (
-        seen.append(len(effects._AHEAD["pending"])), progress(frame)))
+    monkeypatch.setattr(foam, "_calibrate_into", calibrate)
+    seen, progress = [], bridge.bake_record.progress
+    monkeypatch.setattr(bridge.bake_record, "progress", lambda frame: (
+        seen.append(len(foam._AHEAD["pending"])), progress(frame)))
     scene.frame_set(60)  # a viewport frame 2.5 s in: seconds 3 and 4 are calibrated ahead
-    assert effects._AHEAD["pending"]
+    assert foam._AHEAD["pending"]
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
     assert seen and not any(seen)
@@ -532,18 +532,18 @@ def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, 
     scene, obj = moving
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
-    keyed = list(obj.data.materials[0].node_tree[bridge.bake.KEYED])
+    keyed = list(obj.data.materials[0].node_tree[bridge.baked.KEYED])
     assert keyed  # the moving camera changes inputs from frame to frame
     copy = obj.copy()
     copy.data = obj.data.copy()
     scene.collection.objects.link(copy)
     with pytest.raises(ValueError, match="duplicate"):
         bridge.bake.check(scene, bpy.context.view_layer, copy, str(tmp_path / "b.usdc"), 1, 2)
-    assert bridge.bake.free(copy) and not bridge.bake.is_baked(copy)
-    assert bridge.bake.is_baked(obj) and obj.projgrid.shadow_caster.modifiers
-    assert list(obj.data.materials[0].node_tree[bridge.bake.KEYED]) == keyed
+    assert bridge.baked.free(copy) and not bridge.baked.is_baked(copy)
+    assert bridge.baked.is_baked(obj) and obj.projgrid.shadow_caster.modifiers
+    assert list(obj.data.materials[0].node_tree[bridge.baked.KEYED]) == keyed
     scene.frame_set(2)  # the live copy takes a material of its own: without the bake's keys
     mine, theirs = copy.data.materials[0].node_tree, obj.data.materials[0].node_tree
-    assert mine != theirs and bridge.bake.KEYED not in mine
-    assert not {c.data_path for c in bridge.bake.bag_curves(mine)} & set(keyed)
-    assert set(keyed) <= {c.data_path for c in bridge.bake.bag_curves(theirs)}
+    assert mine != theirs and bridge.baked.KEYED not in mine
+    assert not {c.data_path for c in bridge.baked.bag_curves(mine)} & set(keyed)
+    assert set(keyed) <= {c.data_path for c in bridge.baked.bag_curves(theirs)}

@@ -172,7 +172,7 @@ def test_godrays_scatter_along_the_caustic_pattern(tmp_path, extension, monkeypa
         frame = round(time * bpy.context.scene.render.fps)
         return np.broadcast_to(2.0 * (band ^ (frame % 2)), (n, n)).astype(np.float32)
 
-    monkeypatch.setattr(extension.projgrid_addon.effects, "caustic_tile", stripes)
+    monkeypatch.setattr(extension.projgrid_addon.optics, "caustic_tile", stripes)
     scene, cam, ocean = setup(3.0, 0.0)
     cam.location.z = -2.0
     brighter = []

@@ -49,9 +49,9 @@ def test_a_bare_ocean_turns_on_nothing(ocean):
 
 def test_wind_brings_foam_and_calm_computes_none(ocean, bridge, monkeypatch):
     calls = []
-    effects = import_module(f"{MODULE}.projgrid_addon.effects")
-    real = effects.whitecaps
-    monkeypatch.setattr(effects, "whitecaps", lambda *a: calls.append(1) or real(*a))
+    foam = import_module(f"{MODULE}.projgrid_addon.foam")
+    real = foam.whitecaps
+    monkeypatch.setattr(foam, "whitecaps", lambda *a: calls.append(1) or real(*a))
     bpy.context.scene.frame_set(2)
     assert calls == [] and "projgrid_foam" not in ocean.data.attributes  # calm: no foam work
     # Whitecaps cover 1.7 % of the sea at 15 m/s: a grid with vertices enough to catch them.
@@ -124,8 +124,8 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     grid = bridge.state.RUNTIME.state(ocean).grid
     gx, gy, _ = (grid.positions.astype(np.float64) + grid.origin).T
     distance = np.maximum(np.abs(gx), np.abs(gy - 40.0)) - 1.0
-    effects = import_module(f"{MODULE}.projgrid_addon.effects")
-    reach = effects.contact_foam_width(bridge.scene.height_field(ocean.projgrid).bound)
+    reach = import_module(f"{MODULE}.projgrid_addon.foam").contact_foam_width(
+        bridge.scene.height_field(ocean.projgrid).bound)
     assert foam[distance <= -1e-4].min() == 1.0  # (beside the float32 rounding of positions)
     assert foam[distance > reach + 1e-4].max() == 0.0
     caustics = attribute(ocean, "projgrid_caustics")
@@ -185,10 +185,12 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
 def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
     calls = []
     effects = import_module(f"{MODULE}.projgrid_addon.effects")
-    for name in ("contact_foam", "caustic_intensity", "caustic_tile", "foam_thresholds",
-                 "receiving_depth"):
-        real = getattr(effects, name)
-        monkeypatch.setattr(effects, name,
+    for module, name in (("foam", "contact_foam"), ("optics", "caustic_intensity"),
+                         ("optics", "caustic_tile"), ("foam", "foam_thresholds"),
+                         ("optics", "receiving_depth")):
+        module = import_module(f"{MODULE}.projgrid_addon.{module}")
+        real = getattr(module, name)
+        monkeypatch.setattr(module, name,
                             lambda *a, _n=name, _f=real: calls.append(_n) or _f(*a))
     for effect in effects.EFFECTS:
         setattr(ocean.projgrid, effect, "OFF")

@@ -42,7 +42,7 @@ def test_registration_is_symmetric(extension):
             assert not hasattr(bpy.types, name), name
     finally:
         bpy.ops.preferences.addon_enable(module=MODULE)
-    assert len(our_handlers()) == len(extension.projgrid_addon.bridge.handlers.HANDLERS)
+    assert len(our_handlers()) == len(extension.operators.bridge.handlers.HANDLERS)
 
 
 def test_add_ocean_in_an_empty_scene(bridge):

@@ -121,13 +121,13 @@ def test_foam_covers_the_sea_at_a_strong_wind(sea, state):
 def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension):
     """A viewport frame with whitecaps starts the next two seconds' calibrations on the worker
     (so playback does not stall each second); a render's frame does not (it has no next)."""
-    effects = extension.projgrid_addon.effects
+    foam = extension.projgrid_addon.foam
     sea.projgrid.foam = "ON"
     scene = bpy.context.scene
-    for future in list(effects._AHEAD["pending"].values()):
+    for future in list(foam._AHEAD["pending"].values()):
         future.result()
     scene.frame_set(30)  # 1.25 s at 24 fps: the calibrations of 2 s and 3 s are ahead
-    for future in list(effects._AHEAD["pending"].values()):
+    for future in list(foam._AHEAD["pending"].values()):
         future.result()
     source = bridge.scene.height_field(sea.projgrid)
     times = {key[0] for key in source._foam_calibrations}
@@ -260,7 +260,7 @@ def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
     assert tuple(group_input(sea, "Foam Colour").default_value)[:3] == pytest.approx(
         (0.9, 0.85, 0.8))
     body = s.water_body.data.materials[0].node_tree.nodes
-    absorption = extension.projgrid_addon.effects.absorption(5.0)
+    absorption = extension.projgrid_addon.optics.absorption(5.0)
     assert absorption[2] == pytest.approx(1.0 / 5.0)  # blue keeps 1/e over the clarity
     assert body["Absorption"].inputs["Density"].default_value == pytest.approx(
         max(absorption), rel=1e-5)
@@ -286,7 +286,7 @@ def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
 
 def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     """The water body scatters the Water Colour in proportion to the light on the sea
-    (effects.body_light), as the lit surface does: the same in Add Ocean's daylight, darker
+    (optics.body_light), as the lit surface does: the same in Add Ocean's daylight, darker
     with the sun lamp out and the sky dimmed, nothing in the dark."""
     scene = bpy.context.scene
     glow = sea.projgrid.water_body.data.materials[0].node_tree.nodes["Water Glow"].inputs
@@ -300,8 +300,8 @@ def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.25
     scene.frame_set(3)
     water = extension.shaders.water
-    want = extension.projgrid_addon.effects.body_light(0.0, 0.25, water.DAYLIGHT,
-                                                        water.DAYLIGHT_SUN)
+    want = extension.projgrid_addon.optics.body_light(0.0, 0.25, water.DAYLIGHT,
+                                                        extension.projgrid_addon.look.DAYLIGHT_SUN)
     assert emitted() == pytest.approx(daylight * np.array(want), rel=1e-4)
     assert max(want) < 0.25
     scene.world = None
@@ -318,9 +318,9 @@ def test_two_oceans_keep_their_own_clarity(sea, extension):
     bpy.context.scene.frame_set(4)
     densities = [o.projgrid.water_body.data.materials[0].node_tree.nodes["Absorption"]
                  .inputs["Density"].default_value for o in (sea, other)]
-    effects = extension.projgrid_addon.effects
-    assert densities == pytest.approx([max(effects.absorption(4.0)),
-                                       max(effects.absorption(40.0))], rel=1e-5)
+    optics = extension.projgrid_addon.optics
+    assert densities == pytest.approx([max(optics.absorption(4.0)),
+                                       max(optics.absorption(40.0))], rel=1e-5)
 
 
 def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
@@ -500,20 +500,21 @@ def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, 
     assert not np.allclose(np.array(ours[0].pixels[:64]), before)  # the band travels
     group = sea.data.materials[0].node_tree.nodes[water.GROUP]
     assert group.inputs["Layer Level 1"].default_value == pytest.approx(layer.bands[0].level)
-    assert any(i.is_dirty for i in water.layer_images())
+    assert any(i.is_dirty for i in bridge.material_inputs.layer_images())
     bridge.handlers.playback_done()  # as when playback stops
-    assert not any(i.is_dirty for i in water.layer_images())
+    assert not any(i.is_dirty for i in bridge.material_inputs.layer_images())
     # Scrubbing: packed by a timer once the frame stands still (timers do not run here).
     scene.frame_set(9)
     assert bpy.app.timers.is_registered(bridge.handlers.still)
     assert bridge.handlers.still() > 0.0  # just changed: not yet
-    assert any(i.is_dirty for i in water.layer_images())
+    assert any(i.is_dirty for i in bridge.material_inputs.layer_images())
     bridge.handlers._LAST_CHANGE[0] -= bridge.handlers.STILL
     assert bridge.handlers.still() is None
-    assert not any(i.is_dirty for i in water.layer_images())
+    assert not any(i.is_dirty for i in bridge.material_inputs.layer_images())
     scene.frame_set(10)
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "layer.blend"))
-    assert all(i.packed_file is not None and not i.is_dirty for i in water.layer_images())
+    images = bridge.material_inputs.layer_images()
+    assert all(i.packed_file is not None and not i.is_dirty for i in images)
     sea.projgrid.height_source = "PERLIN"
     scene.frame_set(9)
     # the noise: no layer (its bands' gain sqrt(1 - g^2) is 0 where g = clip(lod - level) = 1)

@@ -112,7 +112,7 @@ def water(extension):
     """The spectral sea's water group, the material's group node, and the core's modules."""
     obj = spectral_sea()
     core = extension.projgrid_addon
-    material = extension.shaders.water.material_of(obj.data)
+    material = extension.operators.bridge.material_inputs.material_of(obj.data)
     node = material.node_tree.nodes[extension.shaders.water.GROUP]
     return node, core
 
@@ -246,6 +246,7 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     Ocean's sky (its gradient and glow around the sun) and sun lamp put on the mean sea plane,
     integrated here over the sky's hemisphere; and the group's diffuse albedo gives it back."""
     sky, water_module = extension.shaders.sky, extension.shaders.water
+    look = extension.projgrid_addon.look
     sun_lamp = next(o for o in bpy.context.scene.objects if o.type == "LIGHT")
     toward = np.array(sun_lamp.matrix_world)[:3, 2]
     n = 300
@@ -264,7 +265,7 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     irradiance = (radiance * weight[..., None]).sum(axis=(0, 1))
     sun = sun_lamp.data.energy * max(toward[2], 0.0)
     assert sun == pytest.approx(sky.SUN_STRENGTH * math.sin(math.radians(sky.SUN_ELEVATION)))
-    assert water_module.DAYLIGHT_SUN == pytest.approx(sun, rel=1e-3)
+    assert look.DAYLIGHT_SUN == pytest.approx(sun, rel=1e-3)
     irradiance += sun * np.array(sun_lamp.data.color)
     assert np.asarray(water_module.DAYLIGHT) == pytest.approx(irradiance, rel=0.01)
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects
+from projgrid_addon import HeightField, effects, foam, optics
 from projgrid_addon.camera import Camera, look_at, perspective
 from projgrid_addon.effects import SceneFacts, SceneObject, decide
 
@@ -97,7 +97,7 @@ def test_the_mirror_capture_continues_every_reflected_ray():
     """Flat water: the ray from the eye to any surface point, reflected there, runs along the
     line from the capture point through that surface point."""
     eye, level = np.array([3.0, -2.0, 7.5]), 1.5
-    location, half, clip = effects.mirror_capture(eye, level, 0.8, 500.0)
+    location, half, clip = optics.mirror_capture(eye, level, 0.8, 500.0)
     assert location == (3.0, -2.0, -4.5) and clip == 6.0
     assert half == (500.0, 500.0, 6.8)  # the slab reaches the crests, level + bound
     rng = np.random.default_rng(2)
@@ -127,21 +127,21 @@ def test_whitecaps_cover_the_share_at_every_band_limit():
     sea is the coverage whatever detail the geometry holds; where it holds no wave, the
     share itself (the whitecaps of waves no vertex holds, as the shader shows far away)."""
     hf = HeightField(amplitude=1.0, octaves=6)
-    calibration = effects.foam_thresholds(hf, 3.0, 0.02)
+    calibration = foam.foam_thresholds(hf, 3.0, 0.02)
     x, y = np.random.default_rng(8).uniform(-5e3, 5e3, (2, 100_000))
     for lod in (1.0, 2.5, 4.0, 10.0):
         lods = np.full(x.shape, lod, np.float32)
-        foam = effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods, calibration)
-        assert foam.dtype == np.float32 and 0.0 <= foam.min() and foam.max() <= 1.0
-        assert foam.mean() == pytest.approx(0.02, rel=0.3), lod
+        cover = foam.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods, calibration)
+        assert cover.dtype == np.float32 and 0.0 <= cover.min() and cover.max() <= 1.0
+        assert cover.mean() == pytest.approx(0.02, rel=0.3), lod
     lods = np.zeros(x.shape, np.float32)  # no octave in the geometry
-    assert effects.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods,
+    assert foam.whitecaps(hf.foam_cue(np.stack([x, y]), 3.0, lods), lods,
                              calibration) == pytest.approx(np.full(x.shape, 0.02), rel=1e-3)
     calm = HeightField(amplitude=0.0, octaves=6)  # no wave at all: no foam
-    calm_foam = effects.whitecaps(calm.foam_cue(np.stack([x, y]), 3.0, None), None,
-                                  effects.foam_thresholds(calm, 3.0, 0.02))
+    calm_foam = foam.whitecaps(calm.foam_cue(np.stack([x, y]), 3.0, None), None,
+                                  foam.foam_thresholds(calm, 3.0, 0.02))
     assert calm_foam.max() == 0.0
-    again = effects.foam_thresholds(hf, 3.0, 0.02)
+    again = foam.foam_thresholds(hf, 3.0, 0.02)
     assert all(np.array_equal(a, b) for a, b in zip(calibration, again, strict=True))
 
 
@@ -155,16 +155,16 @@ def unit_box(lo, hi):
 def test_contact_foam_rings_the_box_and_fades_with_distance():
     box = unit_box((-1, -1, -2), (1, 1, 2))
     x = np.array([0.0, 1.0, 1.25, 1.5, 3.0, -1.25])
-    foam = effects.contact_foam(x, np.zeros_like(x), np.zeros_like(x), [box], 0.5)
-    assert foam.dtype == np.float32
-    assert foam.tolist() == pytest.approx([1.0, 1.0, 0.25, 0.0, 0.0, 0.25])
+    cover = foam.contact_foam(x, np.zeros_like(x), np.zeros_like(x), [box], 0.5)
+    assert cover.dtype == np.float32
+    assert cover.tolist() == pytest.approx([1.0, 1.0, 0.25, 0.0, 0.0, 0.25])
     # A box rotated 45° about z: a point 1.2 m out along its diagonal direction is within reach
     # of the rotated box's corner only (the distance is taken in the box's own frame).
     c, s_ = np.cos(np.pi / 4), np.sin(np.pi / 4)
     turned = box @ np.array([[c, s_, 0], [-s_, c, 0], [0, 0, 1]])
     point = np.array([np.sqrt(2) + 0.2]), np.zeros(1), np.zeros(1)
-    assert effects.contact_foam(*point, [turned], 0.5)[0] == pytest.approx((1 - 0.4) ** 2)
-    assert effects.contact_foam(*point, np.zeros((0, 8, 3)), 0.5)[0] == 0.0
+    assert foam.contact_foam(*point, [turned], 0.5)[0] == pytest.approx((1 - 0.4) ** 2)
+    assert foam.contact_foam(*point, np.zeros((0, 8, 3)), 0.5)[0] == 0.0
 
 
 def test_crossing_boxes_are_the_ones_in_view_that_cross_the_water():
@@ -184,9 +184,9 @@ def wavy_surface(n=257, span=40.0, amplitude=0.5, wavelength=5.0):
 def test_caustics_are_one_on_flat_water_and_focus_under_crests():
     x, y, h = wavy_surface()
     sun = (0.0, 0.0, 1.0)
-    flat = effects.caustic_intensity((x, y, np.zeros_like(x)), (0.3, 0.1, 0.8), 2.0)
+    flat = optics.caustic_intensity((x, y, np.zeros_like(x)), (0.3, 0.1, 0.8), 2.0)
     assert flat == pytest.approx(np.ones(x.size), abs=1e-6)
-    wavy = effects.caustic_intensity((x, y, h), sun, 2.0).reshape(x.shape)
+    wavy = optics.caustic_intensity((x, y, h), sun, 2.0).reshape(x.shape)
     inner = wavy[2:-2, 2:-2]
     # Crests are thin lenses of curvature k = A (2 pi / wavelength)^2 and focal length
     # f = n / ((n - 1) k): d below the crest the light is 1 / (1 - d / f) (paraxial), and d below
@@ -198,34 +198,34 @@ def test_caustics_are_one_on_flat_water_and_focus_under_crests():
     assert inner[crest] == pytest.approx(1 / (1 - 2.5 / f), rel=0.03)
     assert inner[trough] == pytest.approx(1 / (1 + 1.5 / f), rel=0.03)
     # Deeper receivers see the focus sharpen (up to the focal depth).
-    deeper = effects.caustic_intensity((x, y, h), sun, 4.0).reshape(x.shape)[2:-2, 2:-2]
+    deeper = optics.caustic_intensity((x, y, h), sun, 4.0).reshape(x.shape)[2:-2, 2:-2]
     assert deeper[crest].min() > inner[crest].min()
-    assert not effects.caustic_intensity((x, y, h), (0.0, 0.3, -0.5), 2.0).any()  # sun set
+    assert not optics.caustic_intensity((x, y, h), (0.0, 0.3, -0.5), 2.0).any()  # sun set
 
 
 def test_caustic_shadow_is_the_mean_on_flat_water_and_bounded():
-    shadow = effects.caustic_shadow(np.array([0.0, 1.0, 2.0, 50.0]))
-    assert shadow.tolist() == [0.0, effects.CAUSTIC_MEAN, 1.0, 1.0]
+    shadow = optics.caustic_shadow(np.array([0.0, 1.0, 2.0, 50.0]))
+    assert shadow.tolist() == [0.0, optics.CAUSTIC_MEAN, 1.0, 1.0]
 
 
 def test_receiving_depth_is_where_the_submerged_objects_are():
-    assert effects.receiving_depth(facts()) == 2.0
+    assert optics.receiving_depth(facts()) == 2.0
     floor = SceneObject("Floor", -6.0, -6.0, True)
     rock = SceneObject("Rock", -3.0, -1.0, True)
     pier = SceneObject("Pier", -4.0, 5.0, True)
     far = SceneObject("Far", -40.0, -30.0, False)
-    assert effects.receiving_depth(facts(objects=[floor, rock, pier, far])) == 2.0
-    assert effects.receiving_depth(facts(objects=[floor])) == 6.0
+    assert optics.receiving_depth(facts(objects=[floor, rock, pier, far])) == 2.0
+    assert optics.receiving_depth(facts(objects=[floor])) == 6.0
 
 
 def test_the_godrays_look_the_caustic_tile_up_along_the_refracted_sun():
     sun = np.array([0.3, -0.2, 0.6])
-    d = effects.refracted_sun(sun)
+    d = optics.refracted_sun(sun)
     assert np.linalg.norm(d) == pytest.approx(1.0) and d[2] < 0
     sin_in = np.linalg.norm(np.cross(sun / np.linalg.norm(sun), (0, 0, 1)))
     assert np.linalg.norm(np.cross(d, (0, 0, 1))) == pytest.approx(sin_in / 1.333)  # Snell
     level, corner, size = 0.5, (10.0, -20.0), 64.0
-    a, b, c = effects.tile_lookup(sun, level, corner, size)
+    a, b, c = optics.tile_lookup(sun, level, corner, size)
     entry = np.array([30.0, 5.0, level])  # where the sun ray enters the water
     for s in (0.0, 3.0, 12.0):
         q = entry + s * d  # further down the same ray
@@ -235,10 +235,10 @@ def test_the_godrays_look_the_caustic_tile_up_along_the_refracted_sun():
 
 def test_the_caustic_tile_is_the_caustics_on_a_regular_grid():
     hf = HeightField(amplitude=0.4, octaves=4, wave_scale=10.0)
-    tile = effects.caustic_tile(hf, 2.0, (5.0, 7.0), 32.0, 64, (0.2, 0.1, 0.9), 3.0)
+    tile = optics.caustic_tile(hf, 2.0, (5.0, 7.0), 32.0, 64, (0.2, 0.1, 0.9), 3.0)
     assert tile.shape == (64, 64) and tile.dtype == np.float32
     assert tile.mean() == pytest.approx(1.0, abs=0.1) and tile.std() > 0.05
-    flat = effects.caustic_tile(HeightField(amplitude=0.0), 2.0, (5.0, 7.0), 32.0, 16,
+    flat = optics.caustic_tile(HeightField(amplitude=0.0), 2.0, (5.0, 7.0), 32.0, 16,
                                 (0.2, 0.1, 0.9), 3.0)
     assert np.allclose(flat, 1.0, atol=1e-5)
 
@@ -255,12 +255,12 @@ def test_facts_keys_differ_exactly_when_the_facts_do():
 
 
 def test_the_body_s_light_is_the_daylight_s_share():
-    """effects.body_light: 1 in the daylight the Water Colour is given in, nought in the dark,
+    """optics.body_light: 1 in the daylight the Water Colour is given in, nought in the dark,
     the sun's and the sky's parts apart, per channel."""
     daylight, sun = (1.3, 1.7, 2.7), 0.6
-    assert effects.body_light(sun, 1.0, daylight, sun) == pytest.approx((1.0, 1.0, 1.0))
-    assert effects.body_light(0.0, 0.0, daylight, sun) == (0.0, 0.0, 0.0)
-    sky_only = effects.body_light(0.0, 1.0, daylight, sun)
+    assert optics.body_light(sun, 1.0, daylight, sun) == pytest.approx((1.0, 1.0, 1.0))
+    assert optics.body_light(0.0, 0.0, daylight, sun) == (0.0, 0.0, 0.0)
+    sky_only = optics.body_light(0.0, 1.0, daylight, sun)
     assert sky_only == pytest.approx([(d - sun) / d for d in daylight])
-    assert effects.body_light((1.2, 0.6, 0.0), 0.5, daylight, sun) == pytest.approx(
+    assert optics.body_light((1.2, 0.6, 0.0), 0.5, daylight, sun) == pytest.approx(
         [(e + 0.5 * (d - sun)) / d for e, d in zip((1.2, 0.6, 0.0), daylight, strict=True)])

@@ -85,7 +85,7 @@ def world_grid_scene(n):
     """An n x n grid in world space over the area the projected grid covers, displaced by the same
     height field each frame (band-limited to its own spacing) through the same fast mesh path."""
     scene = _scene(f"world grid {n}")
-    bridge = extension().projgrid_addon.bridge
+    bridge = extension().operators.bridge
     mesh = bpy.data.meshes.new("World Grid")
     bridge.mesh.set_topology(mesh, n, n)
     obj = bpy.data.objects.new("World Grid", mesh)
@@ -139,14 +139,14 @@ def sea_cost(repeats=45):
               "spectrum 65×129 (viewport)": ours(65, "SPECTRUM", (65, 129))}
     # No whitecap calibrations ahead on the worker (playback_cost measures those): its
     # thread would take the second core from the Ocean modifier's threads.
-    effects = extension().projgrid_addon.effects
-    ahead, effects.calibrate_ahead = effects.calibrate_ahead, (lambda *a, **k: 0)
-    for future in list(effects._AHEAD["pending"].values()):
+    foam = extension().projgrid_addon.foam
+    ahead, foam.calibrate_ahead = foam.calibrate_ahead, (lambda *a, **k: 0)
+    for future in list(foam._AHEAD["pending"].values()):
         future.result()
     try:
         times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
     finally:
-        effects.calibrate_ahead = ahead
+        foam.calibrate_ahead = ahead
     for s in scenes.values():
         bpy.data.scenes.remove(s)
     return [{"variant": k, **v.ms()} for k, v in times.items()]
@@ -155,11 +155,11 @@ def sea_cost(repeats=45):
 def playback_cost(seconds=3, rounds=2):
     """Frame times while playing the spectral sea on the viewport grid (Beaufort 5, foam on):
     `seconds` of consecutive frames, with the coming seconds' whitecap calibrations made
-    ahead on a worker thread (effects.calibrate_ahead) and with each made by the frame that
+    ahead on a worker thread (foam.calibrate_ahead) and with each made by the frame that
     first needs it, alternately, each round at times of its own. Per variant: the median,
     90th percentile and slowest frame, and the frames slower than twice the median (stalls)."""
-    effects = extension().projgrid_addon.effects
-    ahead = effects.calibrate_ahead
+    foam = extension().projgrid_addon.foam
+    ahead = foam.calibrate_ahead
     scene = projected_scene(65)
     obj = _ocean(scene)
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0],
@@ -172,8 +172,8 @@ def playback_cost(seconds=3, rounds=2):
     try:
         for r in range(rounds):
             for n, variant in enumerate(frames):
-                effects.calibrate_ahead = ahead if n == 0 else (lambda *a, **k: 0)
-                for future in list(effects._AHEAD["pending"].values()):
+                foam.calibrate_ahead = ahead if n == 0 else (lambda *a, **k: 0)
+                for future in list(foam._AHEAD["pending"].values()):
                     future.result()  # the worker idle as each variant starts
                 first = start + (2 * r + n) * 200 * scene.render.fps // 24
                 scene.frame_set(first)
@@ -182,7 +182,7 @@ def playback_cost(seconds=3, rounds=2):
                     scene.frame_set(f)
                     frames[variant].append(time.perf_counter() - t)
     finally:
-        effects.calibrate_ahead = ahead
+        foam.calibrate_ahead = ahead
         bpy.data.scenes.remove(scene)
     rows = []
     for variant, times in frames.items():
@@ -212,7 +212,7 @@ def bake_cost(frames=24, repeats=7):
     folder = tempfile.mkdtemp(prefix="projgrid-bake-")
     baked, obj = made("baked")
     live, _ = made("live")
-    bake = extension().projgrid_addon.bridge.bake
+    bake = extension().operators.bridge.bake
     with bpy.context.temp_override(scene=baked, view_layer=baked.view_layers[0],
                                    active_object=obj, object=obj):
         wall, cpu = time.perf_counter(), time.process_time()
@@ -230,7 +230,7 @@ def bake_cost(frames=24, repeats=7):
 
     times = interleaved({"baked (reads its cache)": lambda: play(baked),
                          "live (builds the grid)": lambda: play(live)}, repeats)
-    bake.free(obj)
+    extension().operators.bridge.baked.free(obj)
     for scene in (baked, live):
         bpy.data.scenes.remove(scene)
     shutil.rmtree(folder, ignore_errors=True)
@@ -512,7 +512,7 @@ def scene_update_cost(counts=(0, 1000, 10000), repeats=7):
     of the two whole updates measures only as well as a shared machine allows); after a camera
     nudge (the ocean must follow) and after a move of one object behind the camera (unrelated to
     the ocean: only that object's box is read again)."""
-    handlers = importlib.import_module(MODULE + ".projgrid_addon.bridge.handlers")
+    handlers = importlib.import_module(MODULE + ".operators.bridge.handlers")
     ours_handler = handlers.depsgraph_update_post
     spent = []
 
@@ -595,7 +595,7 @@ add_camera(scene)
 bpy.ops.projgrid.add_ocean()
 obj = bpy.context.active_object
 obj.projgrid.render_resolution_x, obj.projgrid.render_resolution_y = nx, ny
-bridge = extension().projgrid_addon.bridge
+bridge = extension().operators.bridge
 core = extension().projgrid_addon
 depsgraph = bpy.context.evaluated_depsgraph_get()
 n = nx * ny

@@ -572,7 +572,7 @@ def _sea(report):
     if playback:
         md += ["Playing the spectral sea on the viewport grid (65×129, Beaufort 5, foam on), "
                "consecutive frames: the whitecaps are calibrated once a second (the "
-               "thresholds that give the wind's coverage, effects.foam_thresholds), made "
+               "thresholds that give the wind's coverage, foam.foam_thresholds), made "
                "ahead on a worker thread or by the frame that first needs them. Stalls: "
                "frames slower than twice the median.", "",
                _table(playback, [("variant", "variant", ""), ("frames", "frames", "d"),

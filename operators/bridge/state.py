@@ -39,7 +39,7 @@ class Runtime:
     rendering: bool = False
     batching: bool = False  # settings being set together (settings.batch): no rebuild each
     live_view: tuple | None = None  # (view, proj) of the 3D view the live preview follows
-    baking: object | None = None  # bake.Recording of the bake being written
+    baking: object | None = None  # bake_record.Recording of the bake being written
     stand_ins: dict = field(default_factory=dict)  # appearance key -> stand-in's name_full
     object_count: int = -1  # bpy.data.objects' length at the last check for deleted oceans
     scenes: dict = field(default_factory=dict)  # scene session_uid -> scene.SceneCache

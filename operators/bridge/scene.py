@@ -14,14 +14,22 @@ from functools import lru_cache
 import bpy
 import numpy as np
 
+from ...projgrid_addon import HeightField, effects
+from ...projgrid_addon.projected_grid import check_resolution
+from ...projgrid_addon.sea_states import noise_waves
+from ...projgrid_addon.spectral_field import SpectralField
+from ...projgrid_addon.spectrum import SeaState
 from ...shaders.nodes import TAG
-from .. import HeightField, effects
-from ..projected_grid import check_resolution
-from ..sea_states import noise_waves
-from ..spectral_field import SpectralField
-from ..spectrum import SeaState
 from .state import RUNTIME
 
+COMPANIONS = {  # setting: (name suffix, effects that show it)
+    "water_body": (" Water Body", ("underwater", "refraction")),
+    # Light passes the water: the ocean casts no shadow of its own, this one does (caustics).
+    "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
+    # The ocean is left out of sphere probes' captures while this one is shown.
+    "reflection_probe": (" Reflection", ("local_reflections",)),
+}
+COMPANION = "projgrid_companion"  # ID property naming a companion's setting on its surface
 STAND_IN = "projgrid_stand_in"  # ID property of a stand-in: the appearance key it draws
 # Object types with geometry that can stand in, on or under the water.
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME",

@@ -3,8 +3,8 @@ attributes through the fast attribute path."""
 
 import numpy as np
 
+from ...projgrid_addon import corner_uv, grid_topology
 from ...shaders import water
-from .. import corner_uv, grid_topology
 
 UV_MAP = "ProjectorUV"
 

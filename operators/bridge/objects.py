@@ -4,7 +4,7 @@ effects.SceneFacts. Nothing here writes."""
 
 import numpy as np
 
-from .. import effects, shading
+from ...projgrid_addon import effects, shading
 from .scene import GEOMETRY_TYPES, OBJECT_EFFECTS, owns, valid_cache
 
 

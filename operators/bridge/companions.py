@@ -14,22 +14,14 @@ mended, removed) and the rule that only our own data is written.
 import bpy
 import numpy as np
 
+from ...projgrid_addon import optics
+from ...shaders import materials as shader_materials
 from ...shaders import water
 from ...shaders.nodes import TAG, assign
-from .. import effects
+from . import baked, material_inputs
 from .mesh import empty
-from .scene import STAND_IN, hidden_in, local, owns
+from .scene import COMPANION, COMPANIONS, STAND_IN, hidden_in, local, owns
 from .state import RUNTIME
-
-COMPANIONS = {  # setting: (name suffix, effects that show it)
-    "water_body": (" Water Body", ("underwater", "refraction")),
-    # Light passes the water: the ocean casts no shadow of its own, this one does (caustics).
-    "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
-    # The ocean is left out of sphere probes' captures while this one is shown.
-    "reflection_probe": (" Reflection", ("local_reflections",)),
-}
-COMPANION = "projgrid_companion"  # ID property naming a companion's setting on its surface
-
 
 # ---- Stand-ins ---------------------------------------------------------------------------------
 
@@ -53,7 +45,7 @@ def stand_in(app, scene, create):
         mesh[TAG] = True
         source = app.ocean.data.materials[0] if app.ocean.data and len(
             app.ocean.data.materials) else None
-        mesh.materials.append(water.adopt_material(source))
+        mesh.materials.append(material_inputs.adopt_material(source))
         obj = bpy.data.objects.new(name, mesh)
         obj[TAG] = True
         obj[STAND_IN] = key
@@ -103,7 +95,7 @@ def remove_stale_stand_ins(scene, apps, everywhere=False):
 def _new_companion(obj, prop, name):
     """The data of a new companion: a closed unit box, the surface's own mesh (the caster draws
     it again with our shadow material, linked to the object), or a sphere light probe with a
-    box influence and a parallax volume set per frame (effects.mirror_capture)."""
+    box influence and a parallax volume set per frame (optics.mirror_capture)."""
     if prop == "shadow_caster":
         return obj.data
     if prop == "water_body":
@@ -111,8 +103,8 @@ def _new_companion(obj, prop, name):
         data.from_pydata([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], [],
                          [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
                           (1, 5, 7, 3)])
-        data.materials.append(water.body_material(effects.ABSORPTION,
-                                                  effects.GODRAY_TILE_TEXELS))
+        data.materials.append(shader_materials.body_material(optics.ABSORPTION,
+                                                  optics.GODRAY_TILE_TEXELS))
     else:
         data = bpy.data.lightprobes.new(name, "SPHERE")
         data.influence_type, data.influence_distance, data.falloff = "BOX", 1.0, 0.0
@@ -152,7 +144,7 @@ def ensure_companions(obj):
             companion.parent = obj
             for slot in companion.material_slots:
                 slot.link = "OBJECT"
-                slot.material = water.shadow_material(effects.CAUSTIC_MEAN)
+                slot.material = shader_materials.shadow_material(optics.CAUSTIC_MEAN)
             for ray in ("camera", "diffuse", "glossy", "transmission", "volume_scatter"):
                 setattr(companion, f"visible_{ray}", False)
         collection.objects.link(companion)
@@ -238,11 +230,11 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
             assign(companion, location=(cam.position[0], cam.position[1], level - reach),
                    scale=(reach,) * 3)
             if companion.data.materials[0] is not None:
-                water.set_effects(companion.data.materials[0].node_tree, in_use,
+                material_inputs.set_effects(companion.data.materials[0].node_tree, in_use,
                                   water.BODY_NODES)
         elif prop == "reflection_probe":
             reach = float(np.linalg.norm(cam.corners[4:] - cam.position, axis=-1).max())
-            location, half, clip = effects.mirror_capture(cam.position, level, bound, reach)
+            location, half, clip = optics.mirror_capture(cam.position, level, bound, reach)
             assign(companion, location=location, scale=half)
             # The parallax volume (scaled by the slab) reaches `reach` upward: the water's
             # reflection vector looks the capture up as if at infinity.
@@ -300,7 +292,7 @@ def _draw(surface, old, new):
         caster.data = new
         for slot in caster.material_slots:
             slot.link = "OBJECT"
-            slot.material = water.shadow_material(effects.CAUSTIC_MEAN)
+            slot.material = shader_materials.shadow_material(optics.CAUSTIC_MEAN)
 
 
 # ---- Removal, materials, saving ----------------------------------------------------------------
@@ -332,14 +324,12 @@ def remove_orphan_companions():
 
 
 def own_material(surface):
-    """The surface's water material is its own (water.own_material), without the keys and
+    """The surface's water material is its own (material_inputs.own_material), without the keys and
     image sequences of a bake the material it was copied from plays (a duplicate's)."""
-    copy = water.own_material(surface.data)
+    copy = material_inputs.own_material(surface.data)
     if copy is not None:
-        from . import bake  # (which imports this module)
-
-        if not bake.is_baked(surface):  # a baked one plays the keys
-            bake.drop_bake(copy)
+        if not baked.is_baked(surface):  # a baked one plays the keys
+            baked.drop_bake(copy)
 
 
 def empty_for_save(obj):

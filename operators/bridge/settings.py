@@ -14,9 +14,9 @@ from bpy.props import (
     StringProperty,
 )
 
+from ...projgrid_addon import effects, optics, sea_states
+from ...projgrid_addon.sea_states import WAVE_SCALE_MIN
 from ...shaders import water
-from .. import effects
-from ..sea_states import WAVE_SCALE_MIN
 from . import frame
 from .state import RUNTIME
 
@@ -31,6 +31,21 @@ def batch():
         yield
     finally:
         RUNTIME.batching = False
+
+
+def apply_sea_state(s, force):
+    """Set the settings `s` (obj.projgrid) to Beaufort `force`, with one rebuild after (by the
+    caller): the spectral sea's wind, fetch, choppiness and swell, and the noise's height and
+    wavelength for the same sea at the noise's own octaves and roughness."""
+    preset = sea_states.sea_state(force, s.wind_direction)
+    with batch():
+        s.height_source = "SPECTRUM"
+        s.wind_speed, s.fetch, s.choppiness = preset.wind_speed, preset.fetch, preset.choppiness
+        s.swell_height, s.swell_period = preset.swell_height, preset.swell_period
+        s.swell_direction = sea_states.swell_direction(s.wind_direction)
+        s.amplitude, s.wave_scale = sea_states.noise_waves(
+            preset.wind_speed, preset.fetch, s.spectrum, s.octaves, s.roughness)
+    return preset
 
 
 def _settings_changed(self, context):
@@ -148,7 +163,7 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
         "the water body tends to with depth)")
     clarity: _float("Clarity", "How far one sees through the water: over this distance its "
                     "clearest (blue) light keeps 1/e of its strength; red fades 7.5 times "
-                    "sooner", effects.CLARITY, 0.1, 1e4, 100.0, "LENGTH")
+                    "sooner", optics.CLARITY, 0.1, 1e4, 100.0, "LENGTH")
     foam_colour: FloatVectorProperty(
         name="Foam Colour", subtype="COLOR", size=3, min=0.0, max=1.0,
         default=water.FOAM_COLOUR, update=_settings_changed, override=OVERRIDABLE,

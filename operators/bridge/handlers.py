@@ -14,9 +14,8 @@ import time
 import bpy
 from bpy.app.handlers import persistent
 
-from ...shaders import water
-from .. import effects
-from . import bake, companions, frame, scene
+from ...projgrid_addon import foam
+from . import bake_record, baked, companions, frame, material_inputs, scene
 from .state import RUNTIME
 
 LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
@@ -43,7 +42,7 @@ def frame_change_post(the_scene, depsgraph=None):
         scene.note_updates(the_scene, [u.id for u in depsgraph.updates], len(bpy.data.objects))
     frame.update_scene(the_scene, depsgraph, render, frame_change=True)
     if RUNTIME.baking:
-        bake.progress(the_scene.frame_current)
+        bake_record.progress(the_scene.frame_current)
     elif not render:
         pack_when_still()
 
@@ -100,7 +99,7 @@ def render_init(the_scene, _=None):
     # its job thread: objects are made only with the interface locked (the viewport makes them
     # otherwise, at its next update).
     companions.use_viewport_mesh()  # after a render that ended without saying so
-    effects.finish_ahead()
+    foam.finish_ahead()
     if bpy.app.background or the_scene.render.use_lock_interface:
         prepare(the_scene)
         for app in scene.appearances(the_scene):
@@ -153,7 +152,7 @@ def save_pre(*_):
     for obj in bpy.data.objects:
         if (obj.type == "MESH" and (obj.projgrid.is_ocean or obj.get(scene.STAND_IN))
                 and scene.local(obj) and scene.owns(obj.data) and scene.local(obj.data)
-                and not obj.data.is_editmode and not bake.is_baked(obj)):  # as baked
+                and not obj.data.is_editmode and not baked.is_baked(obj)):  # as baked
             companions.empty_for_save(obj)
     pack_layer_images()
 
@@ -166,7 +165,7 @@ def playback_done(*_):
 
 def pack_layer_images():
     """Our slope layer images, written each frame and not packed (3 ms each), packed once."""
-    for image in water.layer_images():
+    for image in material_inputs.layer_images():
         if image.is_dirty:
             image.pack()
 

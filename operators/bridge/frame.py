@@ -7,10 +7,11 @@ import time
 import bpy
 import numpy as np
 
-from ...shaders import sky, water
+from ...projgrid_addon import Camera, build_grid, effects, foam, memory, optics, shading
+from ...projgrid_addon.look import DAYLIGHT, DAYLIGHT_SUN
+from ...shaders import sky
 from ...shaders.nodes import assign
-from .. import Camera, build_grid, effects, memory, shading
-from . import bake, companions, mesh, objects, scene, shot
+from . import bake_record, baked, companions, material_inputs, mesh, objects, scene, shot
 from .state import RUNTIME
 
 
@@ -48,14 +49,13 @@ def update_scene(the_scene, depsgraph, render, frame_change):
 
 def body_light(the_scene, sun, toward):
     """The light on the sea against the daylight the Water Colour is given in, per RGB channel
-    (effects.body_light): the evaluated sun lamp's, shining from unit vector `toward`, and the
+    (optics.body_light): the evaluated sun lamp's, shining from unit vector `toward`, and the
     world's."""
     irradiance = 0.0
     if sun is not None:
         irradiance = (float(sun.data.energy) * np.array(sun.data.color, dtype=np.float64)
                       * max(float(toward[2]), 0.0))
-    return effects.body_light(irradiance, sky.strength(the_scene.world), water.DAYLIGHT,
-                              water.DAYLIGHT_SUN)
+    return optics.body_light(irradiance, sky.strength(the_scene.world), DAYLIGHT, DAYLIGHT_SUN)
 
 
 def surface_state(obj):
@@ -80,11 +80,11 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     if render is None:
         render = depsgraph.mode == "RENDER"
     ocean = app.ocean
-    if bake.is_baked(ocean):
+    if baked.is_baked(ocean):
         return None  # it plays its bake (bake.py): nothing of it is rebuilt
-    baking = bake.baking(app)
+    baking = bake_record.baking(app)
     if baking is not None and baking.replaying:
-        arrays = bake.kept(the_scene.frame_current)
+        arrays = bake_record.kept(the_scene.frame_current)
         try:
             if arrays is not None:
                 mesh.write_arrays(ocean.data, arrays or None)
@@ -120,7 +120,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     if not shown:
         state.key, state.message, state.warning, state.hidden = None, None, None, True
         if baking is not None:
-            bake.keep(the_scene.frame_current, None)  # hidden on this frame: empty in the bake
+            bake_record.keep(the_scene.frame_current, None)  # hidden: empty in the bake
         return None
     settings = settings or ocean.evaluated_get(depsgraph).projgrid
     try:
@@ -152,7 +152,7 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                         else 100.0)
         per_frame = shot.seconds_per_frame(the_scene)
         water_colour, foam_colour, clarity, gusts = scene.look(settings)
-        absorption = effects.absorption(clarity)
+        absorption = optics.absorption(clarity)
 
         # Build (thesis §2.4), decide the effects, compute the fields of those on.
         start = time.perf_counter()
@@ -166,15 +166,15 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         # Calibrations ahead (a worker thread) only for the viewport's frames, none beside a
         # render or the bake's export.
         ahead = not (render or RUNTIME.rendering or RUNTIME.baking)
-        foam = (effects.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes, level,
-                                   ahead=ahead) if visible else None)
-        caustics = (effects.caustic_field(result.surface, facts)
+        whitecaps = (foam.foam_field(hf, result, t, settings.wind_speed, on["foam"], boxes,
+                                     level, ahead=ahead) if visible else None)
+        caustics = (optics.caustic_field(result.surface, facts)
                     if visible and on["caustics"] else None)
-        godrays = (effects.godray_field(hf, t, cam.position, level, facts)
+        godrays = (optics.godray_field(hf, t, cam.position, level, facts)
                    if on["godrays"] else None)
         detail = hf.shader_detail(*result.shader_octaves)
         ripple, _ = hf.ripple()
-        material = water.material_of(surface.data)
+        material = material_inputs.material_of(surface.data)
         layer_origin = np.round(cam.position[:2])
         layer = (None if hf.layer is None or material is None else  # the user's: no layer
                  (hf.layer.slopes(t), hf.layer.lookups(layer_origin),
@@ -195,14 +195,14 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
                scale=(1.0, 1.0, 1.0))
         to_local = np.eye(3)
     try:
-        arrays = mesh.grid_arrays(result, to_local, foam, caustics)
+        arrays = mesh.grid_arrays(result, to_local, whitecaps, caustics)
         mesh.write_arrays(surface.data, arrays)
     except (MemoryError, RuntimeError) as e:
         kind = "out of memory" if isinstance(e, MemoryError) else str(e)
         return state.refused(f"writing the {res[0]}x{res[1]} grid failed ({kind}): lower the "
                              "grid resolution")
     if baking is not None:
-        bake.keep(the_scene.frame_current, arrays)
+        bake_record.keep(the_scene.frame_current, arrays)
     state.key, state.message, state.hidden = key, None, False
     state.vertices, state.grid = len(result.positions), result.without_surface()
     state.ms = (time.perf_counter() - start) * 1e3
@@ -211,28 +211,28 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
     state.warning = flat_warning(hf, result, settings)
     in_use = effects_in_use()
     if material is not None:
-        water.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
+        material_inputs.update(material, in_use, detail, detail.time_rate * per_frame, ripple,
                      ripple.time_rate * per_frame, filtering, water_colour, foam_colour,
                      settings.wind_direction,
                      effects.whitecap_coverage(settings.wind_speed) if on["foam"] else 0.0,
                      layer[2] if layer is not None else (), facts.sun_direction,
                      gust_drift(ocean, the_scene, settings, per_frame))
         if layer is not None:
-            water.update_layer(material, layer[0], layer[1], layer_origin)
+            material_inputs.update_layer(material, layer[0], layer[1], layer_origin)
     if making:
         if restructured:
             companions.ensure_companions(surface)
         companions.own_material(surface)  # a material shared by hand is split at once
     body = surface.projgrid.water_body
-    body_material = (water.material_of(body.data) if body is not None and scene.owns(body)
+    body_material = (material_inputs.material_of(body.data) if body is not None and scene.owns(body)
                      else None)
     if body_material is not None:
-        body_material = water.own_body_material(body.data, absorption,
-                                                effects.GODRAY_TILE_TEXELS)
-        water.update_body(body_material, absorption,
+        body_material = material_inputs.own_body_material(body.data, absorption,
+                                                optics.GODRAY_TILE_TEXELS)
+        material_inputs.update_body(body_material, absorption,
                           tuple(c * e for c, e in zip(water_colour, light, strict=True)))
         if godrays is not None:
-            water.update_godrays(body_material, *godrays)
+            material_inputs.update_godrays(body_material, *godrays)
     companions.place_companions(surface, cam, level, hf.bound, on, in_use, volume_reach,
                                 hidden)
     return None
@@ -260,7 +260,7 @@ def gust_drift(ocean, the_scene, settings, per_frame):
     speed, direction = float(settings.wind_speed), float(settings.wind_direction)
     rates = (speed * np.cos(direction) * per_frame, speed * np.sin(direction) * per_frame,
              speed * per_frame)
-    curves = {c.data_path: c for c in bake.bag_curves(ocean) if c.data_path in WIND_PATHS}
+    curves = {c.data_path: c for c in baked.bag_curves(ocean) if c.data_path in WIND_PATHS}
     if not curves:
         return tuple((float(r), 0.0) for r in rates)
     frame = the_scene.frame_current + the_scene.frame_subframe

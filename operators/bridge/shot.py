@@ -3,7 +3,7 @@ scene time (time stretching included), and the ocean's transform. Nothing here w
 
 import numpy as np
 
-from ..camera import blender_projection, rigid_view
+from ...projgrid_addon.camera import blender_projection, rigid_view
 
 
 def render_size(scene):

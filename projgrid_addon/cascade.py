@@ -1,0 +1,283 @@
+"""The spectral sea's bands and tiles (Tessendorf, *Simulating Ocean Water*): the band layout,
+each tile's random phases, and a cascade, one tile's band of the spectrum made by an FFT.
+
+The wavelengths are cut into bands a factor BAND_RATIO apart, from BAND_LONGEST down to a few
+tens of centimetres, and each band is synthesised in periodic tiles of TEXELS^2 samples sized so
+that its shortest wave spans 8 to 10 samples. No band is counted twice: a tile holds only its
+band's wave vectors (`Cascade`).
+
+    h(k, t) = h0(k) e^(-i omega t) + conj(h0(-k)) e^(i omega t),   omega^2 = g |k|
+    h0(k)   = e^(i phi_k) sqrt(E(k) dk^2 / 2)                        (phi_k: a random phase)
+
+so each wave travels along its k at its own phase speed and the height variance is the integral
+of E (spectrum.wavenumber_spectrum). The phases come from (seed, band, tile) alone.
+"""
+
+from functools import lru_cache
+
+import numpy as np
+
+from . import spectrum
+from .tiles import periodic_patches
+
+TEXELS = 64  # samples across a tile
+BAND_LONGEST = 1300.0  # m: the longest waves synthesised (a storm's peak is about 600 m)
+BAND_RATIO = 4.17  # each band's longest wave over its shortest
+BANDS = 6  # down to BAND_LONGEST / 4.17^6, 0.25 m: shorter waves are the shader's
+SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 95 % of it
+# A band's tiles are its base size times these: not multiples of each other, and at most 1.28
+# times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
+TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
+LAYER_FIRST = 3  # the bands from this one on are the slope layer's too (slope_layer.py)
+FOAM_STEPS = 2  # foam calibrations over a band's fade-in (foam_levels)
+SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
+BIG = 2  # how many times more texels (and metres) a band holding more than that has
+# Fields a tile can give: the height, the choppy displacement along x and y, and the height's
+# slopes along x and y (slope_layer.py).
+FIELDS = ("h", "dx", "dy", "sx", "sy")
+GEOMETRY = (0, 1, 2)
+SIDEWAYS = (1, 2)
+
+
+def bands():
+    """(shortest, longest) wavelength of each band, longest first (m)."""
+    return [(BAND_LONGEST / BAND_RATIO ** (b + 1), BAND_LONGEST / BAND_RATIO**b)
+            for b in range(BANDS)]
+
+
+def band_level(shortest):
+    """The band limit (band_limit.py, in units of 1 m) from which a band whose shortest wave is
+    `shortest` (m) fades in: whole one level up, while that wave is at least sqrt(2) * 2 grid
+    spacings long."""
+    return float(np.log2(1.0 / shortest) + 0.5)
+
+
+def band_shares(state):
+    """Each band's share of the sea's height variance, and last the swell's core's
+    (spectrum.in_swell_core: its own tiles). The waves longer than BAND_LONGEST count with the
+    first band, the shorter than the last band's with none."""
+    edges = [2.0 * np.pi / lo for lo, _ in bands()]  # wavenumbers of the bands' short ends
+    omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *edges]))
+    parts, core, own = [], 0.0, has_swell_core(state)
+    for a, b in zip(omega[:-1], omega[1:], strict=True):
+        w = np.linspace(max(a, 1e-4), b, 4000)
+        inside = (float(spectrum.integrate(spectrum.swell_core_spectrum(w, state), w)) if own
+                  else 0.0)
+        parts.append(float(spectrum.integrate(spectrum.wind_spectrum(w, state)
+                                              + spectrum.swell_spectrum(w, state), w)) - inside)
+        core += inside
+    total = sum(parts) + core
+    return [p / total if total > 0.0 else 0.0 for p in [*parts, core]]
+
+
+def has_swell_core(state):
+    """Whether the swell's core has tiles of its own: a swell longer than the slope layer's
+    bands (slope_layer.py: their tiles hold the whole spectrum; a swell of a few seconds stays
+    in the bands)."""
+    return state.swell_height > 0.0 and swell_core_waves(state)[0] >= bands()[LAYER_FIRST][1]
+
+
+def band_of(wavelength):
+    """The index of the band holding `wavelength` (m); the first for longer waves."""
+    return min(sum(lo > wavelength for lo, _ in bands()), BANDS - 1)
+
+
+def swell_core_waves(state):
+    """(shortest, longest) wavelength (m) of the swell's core."""
+    return tuple(swell_wave(state, f) for f in reversed(spectrum.SWELL_CORE))
+
+
+def swell_wave(state, f=1.0):
+    """The wavelength (m) of `f` times the swell's peak frequency: 2 pi g / omega^2."""
+    return 2.0 * np.pi * spectrum.GRAVITY / (f * 2.0 * np.pi / state.swell_period) ** 2
+
+
+def slope_variance(state, shortest, longest, samples=4000):
+    """The spectrum's slope variance over wavelengths `shortest` to `longest` (m): the
+    integral of k^2 S(omega) d omega, k = omega^2 / g."""
+    w = np.geomspace(np.sqrt(2.0 * np.pi * spectrum.GRAVITY / longest),
+                     np.sqrt(2.0 * np.pi * spectrum.GRAVITY / shortest), samples)
+    k = w * w / spectrum.GRAVITY
+    s = spectrum.wind_spectrum(w, state) + spectrum.swell_spectrum(w, state)
+    return float(spectrum.integrate(k * k * s, w))
+
+
+def line_angle(headings, direction):
+    """The largest angle (rad, 0 to pi / 2) between the lines of `headings` and `direction`."""
+    return float(np.abs(np.angle(np.exp(2j * (np.asarray(headings) - direction)))).max(
+        initial=0.0)) / 2.0
+
+
+@lru_cache(maxsize=64)
+def tile_phases(seed, band, tile, texels):
+    """e^(i phi) per wave vector of one tile, phi uniform: fixed by the seed alone."""
+    rng = np.random.default_rng(np.random.SeedSequence([int(seed) & 0xFFFFFFFF, band, tile]))
+    out = np.exp(2j * np.pi * rng.random((texels, texels)))
+    out.setflags(write=False)
+    return out
+
+
+@lru_cache(maxsize=8)
+def _lattice(texels):
+    """Integer wave-vector coordinates (nx, ny) of an FFT grid, and the index of -n."""
+    n = np.fft.fftfreq(texels, 1.0 / texels)
+    nx, ny = np.meshgrid(n, n)
+    return nx, ny, (-np.arange(texels)) % texels
+
+
+class Cascade:
+    """One tile `size` metres across, turned by `angle` (radians) on the sea, holding the wave
+    vectors of a band (wavelengths between `shortest` and `longest`) with `share` of the band's
+    energy (of the spectrum's `part`: spectrum.wavenumber_spectrum). Its lattice is the tile's;
+    its wave vectors, and so its fields, are the world's. `smooth`: it has no choppy
+    displacement (`gives`, the fields it gives, leaves those out)."""
+
+    def __init__(self, size, angle, shortest, longest, share, state, phases, texels,
+                 part=None, smooth=False):
+        self.size, self.shortest = float(size), float(shortest)
+        self.texels = texels
+        self.turn = (np.cos(angle), np.sin(angle))
+        nx, ny, neg = _lattice(texels)
+        dk = 2.0 * np.pi / self.size
+        c, s = self.turn
+
+        def world(ax, ay):  # a tile lattice wave vector, turned onto the sea
+            return (c * ax - s * ay) * dk, (s * ax + c * ay) * dk
+        lo, hi = self.size / longest, self.size / shortest  # band edges in lattice units
+        # Each wave vector stands for its lattice cell: its energy is the mean over the cell
+        # (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
+        # plane exactly and the sum over the lattice is the spectrum's integral even where the
+        # lattice is coarse against the peak and the spreading.
+        sub = (np.arange(4) + 0.5) / 4.0 - 0.5
+        energy = np.zeros(nx.shape)
+        for a in sub:
+            for b in sub:
+                n = np.hypot(nx + a, ny + b)
+                inside = (n >= lo) & (n < hi)
+                energy += np.where(inside, spectrum.wavenumber_spectrum(
+                    *world(nx + a, ny + b), state, part), 0.0)
+        energy *= share / 16.0
+        # The tiles are synthesised in single precision: the vertices are float32 anyway, and
+        # the transforms and the patches move half the bytes.
+        self.h0 = (phases * (np.sqrt(0.5 * energy) * dk)).astype(np.complex64)
+        self.h0_neg_conj = np.conj(self.h0[neg][:, neg])
+        # The fields are real, their spectra Hermitian: each is made from the half of the
+        # lattice with nx >= 0 by a real inverse transform (no band reaches the Nyquist row).
+        half = slice(0, texels // 2 + 1)
+        self._h0, self._h0_neg_conj = self.h0[:, half], self.h0_neg_conj[:, half]
+        self.kx, self.ky = world(nx[:, half], ny[:, half])
+        k = np.hypot(self.kx, self.ky)
+        self.omega = np.sqrt(spectrum.GRAVITY * k)
+        safe = np.where(k > 0.0, k, 1.0)
+        self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
+        self.empty = not np.any(energy > 0.0)
+        self.gives = frozenset(range(len(FIELDS))) - (set(SIDEWAYS) if smooth else set())
+        # The waves it holds, each wave vector of the half lattice standing for k and -k.
+        held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, half]
+        self.shortest_held = 2.0 * np.pi / max(float(k[held].max(initial=0.0)), 1e-12)
+        self.longest_held = 2.0 * np.pi / max(float(k[held & (k > 0.0)].min(initial=np.inf)),
+                                              1e-12)
+        self.headings = np.arctan2(self.ky[held], self.kx[held])
+        self._factors = {}
+
+    def power(self):
+        """|h0(k)|^2 + |h0(-k)|^2 per wave vector of the lattice: its mean power."""
+        return np.abs(self.h0) ** 2 + np.abs(self.h0_neg_conj) ** 2
+
+    def half_power(self):
+        """|h0(k)|^2 + |h0(-k)|^2 over the half lattice the transforms use, each column but
+        the first and the last counted twice: it stands for its mirror too."""
+        power = self.power()[:, :self.texels // 2 + 1]
+        twice = np.full(power.shape[1], 2.0)
+        twice[0] = twice[-1] = 1.0
+        return power * twice
+
+    def _factor(self, field, lam):
+        """The multiplier taking h(k) to the spectrum of `field` (index into FIELDS),
+        complex64, made once per field and choppiness."""
+        key = (field, lam)
+        hit = self._factors.get(key)
+        if hit is None:
+            hit = {0: lambda: np.ones_like(self.ux), 1: lambda: 1j * lam * self.ux,
+                   2: lambda: 1j * lam * self.uy, 3: lambda: 1j * self.kx,
+                   4: lambda: 1j * self.ky}[field]()
+            hit = self._factors[key] = np.asarray(hit, np.complex64)
+        return hit
+
+    def fields(self, t, lam, which):
+        """Patches (tiles.periodic_patches) of the `which` fields (indices into FIELDS) at time
+        t, the displacement's of choppiness `lam`, {index: texture}, and the largest |h| and
+        |(dx, dy)| of the samples (0 where those fields were not asked for or not given)."""
+        which = [f for f in which if f in self.gives]
+        if not which:
+            return {}, 0.0, 0.0
+        real = self.samples(t, lam, which)
+        at = {f: i for i, f in enumerate(which)}
+        bound = float(np.abs(real[at[0]]).max()) if 0 in at else 0.0
+        side = (float(np.hypot(real[at[1]], real[at[2]]).max()) if 1 in at and 2 in at
+                else 0.0)
+        made = periodic_patches(real)
+        return {f: made[i] for f, i in at.items()}, bound, side
+
+    def samples(self, t, lam, which):
+        """(len(which), texels, texels) float32: the `which` fields (indices into FIELDS) at
+        time t, the tile's samples, row y, column x of its turned lattice (one batched inverse
+        transform)."""
+        turns = self.omega * (t / (2.0 * np.pi))  # in float64: t may be large
+        turns -= np.floor(turns)
+        angle = (2.0 * np.pi) * turns.astype(np.float32)  # float32 sines are many times faster
+        phase = np.empty(angle.shape, np.complex64)
+        phase.real = np.cos(angle)
+        phase.imag = -np.sin(angle)
+        h = self._h0 * phase
+        h += self._h0_neg_conj * np.conj(phase)
+        spectra = np.empty((len(which),) + h.shape, np.complex64)
+        for i, f in enumerate(which):
+            if f:
+                np.multiply(h, self._factor(f, lam), out=spectra[i])
+            else:
+                spectra[i] = h
+        return np.fft.irfft2(spectra, s=(self.texels, self.texels), norm="forward")
+
+
+def layout(state, seed, texels_base):
+    """The tiles of a sea: (cascades, groups), groups (band limit, swell heading or None,
+    range of its cascades) per band. Each band's share of the variance is spread over
+    ceil(share / SHARE_PER_TILE) tiles of sizes TILE_RATIOS apart, turned evenly over a quarter
+    turn, with phases of their own; the swell's core (the last group) is band-limited along
+    its headings."""
+    cascades, groups = [], []
+    swell = has_swell_core(state)
+    shares = band_shares(state)
+    for b, ((shortest, longest), share) in enumerate(zip(
+            [*bands(), swell_core_waves(state)], shares, strict=True)):
+        if share < 1e-7:
+            continue
+        core = b == BANDS
+        count = int(np.clip(np.ceil(share / SHARE_PER_TILE), 1, len(TILE_RATIOS)))
+        # A band holding much of the sea gets larger tiles: fewer repeats in view.
+        texels = texels_base * (BIG if share > SHARE_PER_TILE else 1)
+        base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples
+        part = ("swell core" if core else "without swell core") if swell else None
+        first = len(cascades)
+        for j in range(count):
+            # Turned evenly over the quarter turn a square lattice repeats in, so no two
+            # tiles' lattices line up (and the crests of a band never run along them all).
+            angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
+            cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
+                              state, tile_phases(seed, b, j, texels), texels, part,
+                              smooth=core)
+            if not cascade.empty:
+                cascades.append(cascade)
+        made = cascades[first:]
+        if not made:
+            continue
+        if core:  # the band limit of the waves its tiles hold, along their directions
+            level = band_level(min(c.shortest_held for c in made))
+            off = max(line_angle(c.headings, state.swell_direction) for c in made)
+            along = (np.cos(state.swell_direction), np.sin(state.swell_direction),
+                     np.cos(off), np.sin(off))
+        else:
+            level, along = band_level(shortest), None
+        groups.append((level, along, range(first, len(cascades))))
+    return cascades, groups

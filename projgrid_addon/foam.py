@@ -1,0 +1,254 @@
+"""Foam (NumPy only): whitecaps on the crests (Jensen and Golias) covering the share of the sea
+the wind whitecaps (Monahan and Mac Niocaill, Fleck Eq. 32: effects.whitecap_coverage), and
+contact foam around objects that cross the surface.
+
+The crest threshold is the value of the source's fold cue exceeded by that share of the sea,
+calibrated every FOAM_PERIOD seconds over each band's fade-in, so foam is a function of the
+frame alone (a farm splitting frames renders the same foam)."""
+
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
+
+# Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
+NO_FOAM = 1e6
+
+
+FOAM_PERIOD = 1.0  # seconds between the foam's calibrations (foam_thresholds)
+
+
+FOAM_SOFTNESS = 1.0  # a whitecap's ramp at full detail, in the cue's standard deviations
+
+
+# A linear ramp this many standard deviations wide has the slope of the normal distribution's
+# CDF at its middle (sqrt(2 pi)): the share of a vertex that the waves it leaves out foam.
+UNRESOLVED_RAMP = 2.5
+
+
+# m: waves longer than this make whitecaps a vertex should place; the foam of shorter ones is
+# the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover).
+WHITECAP_WAVE = 8.0
+
+
+def sea_sample(span, samples=4096):
+    """x, y of a fixed pattern of `samples` points over a square `span` metres across: a
+    rotated lattice, which spreads them over the square without lining up with a texture."""
+    n = int(np.sqrt(samples))
+    k = (np.arange(n) + 0.5) / n
+    gx, gy = np.meshgrid(k, k)
+    return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
+
+
+def foam_thresholds(source, time, coverage, samples=16384):
+    """Whitecap thresholds of a height source's foam cue (its `foam_cue`: the height for the
+    noise, how far the choppy surface folds for the spectrum), at each of its band limits
+    (`foam_levels`): on a fixed pattern of sea points, the mean foam is `coverage` at the
+    band limit they are evaluated with, so a vertex's foam covers the wind's share of the sea
+    whatever detail its geometry holds (Jensen and Golias put foam where the surface is high
+    or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, widths):
+    each the width of the ramp the foam rises over (`whitecaps`).
+
+    The sources' statistics drift with time (the noise's octaves move through their lattices;
+    the spectrum's tiles hold finitely many waves, whose rare folds come and go: one threshold
+    for all times let the cover drift between 0.55 and 1.6 times the coverage). So it is
+    calibrated every FOAM_PERIOD seconds and interpolated between, and a frame is a function of
+    the settings and its time alone: a farm splitting frames renders the same foam."""
+    coverage = min(max(float(coverage), 1e-6), 1.0)
+    t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
+    a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + FOAM_PERIOD))
+    source.prepare(time)  # a calibration prepares it at its own time: back to the frame's
+    f = (time - t0) / FOAM_PERIOD
+    return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
+
+
+FOAM_KEPT = 4  # calibrations a source keeps (the frame's two and two ahead)
+
+
+_AHEAD = {"pool": None, "pending": {}}
+
+
+_AHEAD_LOCK = threading.Lock()
+
+
+def calibrate_ahead(source, time, coverage, samples=16384):
+    """Start the whitecap calibrations of the next two FOAM_PERIODs after `time` on a worker
+    thread, so that playing a sequence does not stall each time a period begins (a spectral
+    calibration costs ten frames). What the worker makes is what `foam_thresholds` would
+    (the same function of the settings and the time, on the source's `twin`), put into the
+    source's own cache; a frame that needs one still being made waits for it. Returns the
+    number of calibrations started (0 for a source with no `twin`)."""
+    twin = getattr(source, "twin", None)
+    if twin is None:
+        return 0
+    coverage = min(max(float(coverage), 1e-6), 1.0)
+    cache = source.__dict__.setdefault("_foam_calibrations", {})
+    t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
+    started = 0
+    with _AHEAD_LOCK:
+        for t in (t0 + FOAM_PERIOD, t0 + 2.0 * FOAM_PERIOD):
+            key = (t, coverage, samples)
+            if key in cache or (id(cache), key) in _AHEAD["pending"]:
+                continue
+            if _AHEAD["pool"] is None:
+                _AHEAD["pool"] = ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam")
+            _AHEAD["pending"][id(cache), key] = _AHEAD["pool"].submit(
+                _calibrate_into, twin(), cache, key)
+            started += 1
+    return started
+
+
+def finish_ahead():
+    """Wait for the calibrations being made ahead: before Blender runs long native work (a
+    render, the bake's export) with no thread of ours beside it (one beside the USD export
+    crashed Blender 4.5 in its exporter)."""
+    with _AHEAD_LOCK:
+        pending = list(_AHEAD["pending"].values())
+    for job in pending:
+        job.exception()  # waits; a worker's error is the frame's to meet, not this one's
+
+
+def _calibrate_into(source, cache, key):
+    try:
+        return _calibration(source, *key, cache=cache)
+    finally:
+        with _AHEAD_LOCK:
+            _AHEAD["pending"].pop((id(cache), key), None)
+
+
+def _calibration(source, time, coverage, samples, cache=None):
+    if cache is None:
+        cache = source.__dict__.setdefault("_foam_calibrations", {})
+    key = (time, coverage, samples)
+    with _AHEAD_LOCK:
+        pending = _AHEAD["pending"].get((id(cache), key))
+    if pending is not None and threading.current_thread() is threading.main_thread():
+        pending.result()  # being made ahead: wait rather than make it twice
+    made = cache.get(key)
+    if made is None:
+        x, y = sea_sample(source.foam_span, samples)
+        xy = np.stack([x, y])
+        levels = np.asarray(source.foam_levels(), dtype=np.float64)
+        cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32))
+                for level in levels]
+        spreads = np.array([float(cue.std()) for cue in cues])
+        placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
+        whole = float(np.interp(placed, levels, spreads))
+        widths = _ramp_widths(spreads, whole)
+        thresholds = []
+        for cue, spread, width in zip(cues, spreads, widths, strict=True):
+            # no wave here, nor any whitecap-long (WHITECAP_WAVE) for the ramp to stand for:
+            # no foam (a light air's, whose share is below FOAM_MIN_COVERAGE anyway)
+            if max(spread, whole) <= 1e-9 * (1.0 + float(np.abs(cue).max())):
+                thresholds.append(float(cue.max()) + NO_FOAM)
+            else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
+                thresholds.append(_covering(cue, coverage, width))
+        made = (levels, np.array(thresholds), widths)
+        with _AHEAD_LOCK:
+            cache[key] = made
+            for old in list(cache)[:-FOAM_KEPT]:  # the oldest made first
+                del cache[old]
+    return made
+
+
+def _ramp_widths(spreads, placed):
+    """The width of each level's foam ramp: FOAM_SOFTNESS of the cue's spread there, widened
+    by the spread of the waves longer than WHITECAP_WAVE the level leaves out (`placed`, the
+    cue's spread with them whole, less the level's own, the two independent), so a vertex
+    holding only the long waves gets the share of its area the shorter ones would foam,
+    rising smoothly on the long waves' crests, not a whole whitecap along each long crest."""
+    unresolved = np.sqrt(np.maximum(placed * placed - spreads * spreads, 0.0))
+    widths = np.hypot(FOAM_SOFTNESS * spreads, UNRESOLVED_RAMP * unresolved)
+    return np.where(widths > 0.0, widths, 1.0)
+
+
+def _covering(cue, coverage, width):
+    """The threshold at which the mean of `whitecaps` over the sample `cue` is `coverage`."""
+    lo, hi = float(cue.min()) - width, float(cue.max()) + width
+    for _ in range(40):  # bisection: the mean foam falls as the threshold rises
+        mid = 0.5 * (lo + hi)
+        if np.clip((cue - mid) / width + 0.5, 0.0, 1.0).mean() > coverage:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def whitecaps(cue, lod, calibration):
+    """Per-vertex foam in [0, 1], the share of the sea there whitecaps cover, from the cue at
+    the vertices and `foam_thresholds`: rising from 0 to 1 across the vertex's threshold over
+    the ramp's width, centred on it, so the mean foam over the sea is the coverage. `lod`
+    None: every band, whole."""
+    levels, thresholds, widths = calibration
+    cue = np.asarray(cue, dtype=np.float32).ravel()
+    if lod is None:
+        t, width = thresholds[-1], widths[-1]
+    else:
+        lod = np.asarray(lod, dtype=np.float64).ravel()
+        t, width = np.interp(lod, levels, thresholds), np.interp(lod, levels, widths)
+    foam = np.subtract(cue, t, dtype=np.float32)
+    foam /= np.asarray(width, dtype=np.float32)
+    foam += np.float32(0.5)
+    return np.clip(foam, 0.0, 1.0, out=foam)
+
+
+def contact_foam(x, y, z, boxes, width):
+    """Per-vertex foam in [0, 1] around boxes crossing the water: 1 at a box, fading to 0 at
+    `width` metres from it. Points and box corners are world space relative to one origin.
+
+    The distance is to the box itself, in its own frame: Blender's bound_box corners 0, 4, 3, 1
+    are its origin and its x, y, z edges, which stay orthogonal under rotation and scale.
+    """
+    width = max(float(width), 1e-6)
+    p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1)
+    foam = np.zeros(len(p), dtype=np.float32)
+    for corners in np.asarray(boxes, dtype=np.float64).reshape(-1, 8, 3):
+        # Only the points within `width` of the box's extent in x and y can get any.
+        lo, hi = corners[:, :2].min(axis=0) - width, corners[:, :2].max(axis=0) + width
+        near_box = np.flatnonzero((p[:, 0] >= lo[0]) & (p[:, 0] <= hi[0])
+                                  & (p[:, 1] >= lo[1]) & (p[:, 1] <= hi[1]))
+        if near_box.size == 0:
+            continue
+        q = p[near_box]
+        origin = corners[0]
+        edges = corners[[4, 3, 1]] - origin  # (3, 3)
+        length2 = np.einsum("ij,ij->i", edges, edges)
+        t = (q - origin) @ edges.T / np.where(length2 > 0.0, length2, 1.0)
+        nearest = origin + np.clip(t, 0.0, 1.0) @ edges
+        near = np.clip(1.0 - np.linalg.norm(q - nearest, axis=-1) / width, 0.0, 1.0)
+        foam[near_box] = np.maximum(foam[near_box], near * near)
+    return foam
+
+
+CONTACT_FOAM_REACH = 0.5  # metres of foam around an object, beyond the waves' own height
+
+
+def contact_foam_width(bound):
+    """How far contact foam reaches from an object: half a metre plus the waves' bound."""
+    return CONTACT_FOAM_REACH + bound
+
+
+def foam_field(source, result, time, wind_speed, crests, boxes, level, ahead=False):
+    """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
+    `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
+    crossing the water (contact foam), combined by their maximum. `result` is the frame's
+    GridResult: the cue is taken at its grid points before any choppy displacement, and from
+    the grid itself where the source asks for it (the spectrum's folding). `ahead`: also
+    start the coming seconds' calibrations on a worker (`calibrate_ahead`), for playback."""
+    foam = None
+    surface = result.surface
+    if crests:
+        coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
+        calibration = foam_thresholds(source, time, coverage)
+        if ahead:
+            calibrate_ahead(source, time, coverage)
+        xy = result.base if result.base is not None else np.stack(surface[:2])
+        lod = result.lod.reshape(xy.shape[1:])
+        foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)
+    if len(boxes):
+        x, y, h = surface
+        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bound))
+        foam = ring if foam is None else np.maximum(foam, ring)
+    return foam

@@ -1,0 +1,56 @@
+"""The look's constants, in one place: the node tree (shaders/) is built from them and the core's
+formulas of the look (shading.py, effects.py) use the same numbers. NumPy-free and bpy-free."""
+
+import math
+
+SUN_ELEVATION, SUN_STRENGTH = 12.0, 3.0  # degrees, W/m^2: Add Ocean's sun lamp (shaders/sky.py)
+
+# The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
+# metres long, so a pixel tens of metres away still shows them, not the mean share.
+FOAM_GRAIN = 0.3
+# How fast the grain churns, in the noise's own time coordinate per unit of Detail Time (the
+# noise multiplies W by its Scale, so W is divided by FOAM_GRAIN).
+FOAM_CHURN = 1.5
+FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
+# Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
+# z in standard deviations: fitted to Blender's own noise over a period of its time
+# coordinate (1.3 million samples; the fractal's Fac has lighter tails than a normal one's,
+# and its spread varies by 4 % with the time), so the drawn cover is the share over time
+# (tests/blender/test_sea.py); at a 2 % share it swings by a quarter as the grain evolves.
+FOAM_GRAIN_STD = 0.0619
+FOAM_RANK = (1.522, 0.0963)
+# How soft a bubble's edge is, in the noise's ranks, per unit of the share (or of what it
+# leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
+# nought, everything at one, and the mean is the share (shading.grain_cover).
+FOAM_EDGE = 0.5
+FOAM_STREAK = 4.0  # and this many times more across it
+WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
+# Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and
+# the ripples answer it within seconds. Their slope variance is scaled by max(1 + Gust
+# Amplitude z, 0) times Gust Norm, z the local wind's departure in its standard deviations: a
+# noise of GUST_SCALE features per metre (Detail GUST_DETAIL; its Fac's spread GUST_FAC_STD,
+# measured over its time). The factor's mean over the sea is 1, so the sea's mean slope stays
+# Cox and Munk's (test_sea.py).
+GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.088
+GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
+GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
+
+WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in DAYLIGHT
+# The irradiance (W/m^2 per channel, linear) Add Ocean's sky and sun (sky.py, the sun 12 deg up)
+# put on the mean sea plane: the water scatters Water Colour back up under it, and under other
+# light in proportion (tests/blender/test_water_tree.py integrates it).
+DAYLIGHT = (1.2865, 1.7202, 2.7205)
+# Of it, the sun lamp's (white).
+DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
+FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
+
+
+def body_volume(absorption, water_colour):
+    """The water body's volume nodes' values for `absorption` per metre (RGB) and the water
+    colour it glows toward: (absorption colour, density, glow colour, glow strength), the
+    glow e = a * water colour, so that radiance after d metres is e^(-a d) L + (1 - e^(-a d))
+    water colour (Fleck Eq. 14, 17)."""
+    a = [max(float(v), 1e-9) for v in absorption]
+    glow = [max(v * float(c), 1e-12) for v, c in zip(a, water_colour, strict=True)]
+    return ((*(1.0 - v / max(a) for v in a), 1.0), max(a),
+            (*(v / max(glow) for v in glow), 1.0), max(glow))
