@@ -215,8 +215,13 @@ class VIEW3D_PT_projgrid_bake(_OceanSubPanel, bpy.types.Panel):
         for icon, text in lines:
             layout.label(text=text, icon=icon)
         row = layout.row(align=True)
-        row.operator("projgrid.bake", text="Bake Again" if lines else "Bake",
-                     icon="RENDER_ANIMATION")
+        out_of_date = any(icon == "ERROR" for icon, _ in lines)
+        op = row.operator("projgrid.bake", icon="RENDER_ANIMATION", text=(
+            "Re-bake" if out_of_date else "Bake Again" if lines else "Bake"))
+        mod = baked.cache_modifier(obj)
+        if mod is not None and mod.cache_file is not None:  # the same file and frames
+            op.filepath = mod.cache_file.filepath
+            op.frame_start, op.frame_end = obj.projgrid.bake_frames
         if lines:
             row.operator("projgrid.bake_free", icon="LOOP_BACK")
         else:

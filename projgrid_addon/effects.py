@@ -17,6 +17,10 @@ from .validation import finite, non_negative
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
            "local_reflections")
 MODES = ("AUTO", "ON", "OFF")
+# How far above and below its level AUTO takes the sea to reach (SceneFacts.reach), in standard
+# deviations of its heights: the sea's extremes over a shot's view (about 1e5 waves of a
+# Gaussian sea exceed 4.4 of them once; 5 leaves a margin for the crests' skew).
+REACH_SIGMAS = 5.0
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
@@ -46,12 +50,15 @@ class SceneFacts:
     objects: list = field(default_factory=list)  # SceneObject
     sun_direction: tuple | None = None  # unit vector towards the sun
     objects_key: tuple | None = None  # objects_key(objects), when the caller keeps it
+    # m: the height the sea reaches in a shot, REACH_SIGMAS standard deviations of its heights
+    # (at most `bound`, which sums every band's extreme: some 11 of them for the spectrum)
+    reach: float = 0.0
 
     def key(self):
         """A compact value equal for equal facts, cheap to compare on every update."""
         objects = self.objects_key if self.objects_key is not None else objects_key(self.objects)
-        return (self.camera_height, self.bound, self.wind_speed, self.sun_elevation,
-                self.sun_direction, objects)
+        return (self.camera_height, self.bound, self.reach, self.wind_speed,
+                self.sun_elevation, self.sun_direction, objects)
 
 
 def objects_key(objects):
@@ -90,6 +97,7 @@ def _auto(facts):
     sun_text = ("no sun lamp" if sun is None else
                 f"sun {sun:.0f}° {'above' if sun > 0 else 'below'} the horizon")
     cover = whitecap_coverage(facts.wind_speed)
+    reach = f"the waves' reach ±{facts.reach:.2g} m ({REACH_SIGMAS:g} σ of their height)"
     below_text = f"{_names(below)} is below the surface in view"
 
     if under:
@@ -115,8 +123,8 @@ def _auto(facts):
     return {
         "foam": (cover >= FOAM_MIN_COVERAGE,
                  f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"),
-        "contact_foam": ((True, f"{_names(crossing)} crosses the surface in view") if crossing
-                         else (False, "nothing in view crosses the surface")),
+        "contact_foam": ((True, f"{_names(crossing)} crosses the surface in view, {reach}")
+                         if crossing else (False, f"nothing in view crosses the surface, {reach}")),
         "underwater": (under, depth),
         "refraction": refraction,
         "caustics": caustics,
@@ -176,12 +184,13 @@ def _between_text(facts, between):
 
 
 def submerged(facts):
-    return [o for o in facts.objects if o.in_view and o.z_min < facts.bound]
+    """The objects in view reaching below the sea's crests (SceneFacts.reach)."""
+    return [o for o in facts.objects if o.in_view and o.z_min < facts.reach]
 
 
 def _crossing(facts):
     """The objects in view within the waves' reach of the surface, from below it to above."""
-    return [o for o in submerged(facts) if o.z_max > -facts.bound]
+    return [o for o in submerged(facts) if o.z_max > -facts.reach]
 
 
 def crossing_boxes(facts):

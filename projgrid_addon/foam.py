@@ -199,27 +199,59 @@ def contact_foam(x, y, z, boxes, width):
     `width` metres from it. Points and box corners are world space relative to one origin.
 
     The distance is to the box itself, in its own frame: Blender's bound_box corners 0, 4, 3, 1
-    are its origin and its x, y, z edges, which stay orthogonal under rotation and scale.
+    are its origin and its x, y, z edges, which stay orthogonal under rotation and scale. All
+    boxes at once (`_near_boxes`); a point keeps its nearest box's foam.
     """
     width = max(float(width), 1e-6)
-    p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1)
+    p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1).astype(np.float64)
     foam = np.zeros(len(p), dtype=np.float32)
-    for corners in np.asarray(boxes, dtype=np.float64).reshape(-1, 8, 3):
-        # Only the points within `width` of the box's extent in x and y can get any.
-        lo, hi = corners[:, :2].min(axis=0) - width, corners[:, :2].max(axis=0) + width
-        near_box = np.flatnonzero((p[:, 0] >= lo[0]) & (p[:, 0] <= hi[0])
-                                  & (p[:, 1] >= lo[1]) & (p[:, 1] <= hi[1]))
-        if near_box.size == 0:
-            continue
-        q = p[near_box]
-        origin = corners[0]
-        edges = corners[[4, 3, 1]] - origin  # (3, 3)
-        length2 = np.einsum("ij,ij->i", edges, edges)
-        t = (q - origin) @ edges.T / np.where(length2 > 0.0, length2, 1.0)
-        nearest = origin + np.clip(t, 0.0, 1.0) @ edges
-        near = np.clip(1.0 - np.linalg.norm(q - nearest, axis=-1) / width, 0.0, 1.0)
-        foam[near_box] = np.maximum(foam[near_box], near * near)
+    boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 8, 3)
+    if not len(boxes) or not len(p):
+        return foam
+    lo = boxes[:, :, :2].min(axis=1) - width
+    hi = boxes[:, :, :2].max(axis=1) + width
+    point, box = _near_boxes(p[:, :2], lo, hi)
+    if not len(point):
+        return foam
+    q = p[point]
+    origin = boxes[box, 0]
+    edges = boxes[box][:, [4, 3, 1]] - origin[:, None]  # (K, 3, 3)
+    length2 = np.einsum("kij,kij->ki", edges, edges)
+    t = np.einsum("kj,kij->ki", q - origin, edges) / np.where(length2 > 0.0, length2, 1.0)
+    nearest = origin + np.einsum("ki,kij->kj", np.clip(t, 0.0, 1.0), edges)
+    near = np.clip(1.0 - np.linalg.norm(q - nearest, axis=-1) / width, 0.0, 1.0)
+    np.maximum.at(foam, point, (near * near).astype(np.float32))
     return foam
+
+
+def _near_boxes(xy, lo, hi):
+    """(point, box) index pairs of the points `xy` (N, 2) inside each box's rectangle [lo, hi]
+    (M, 2): the points within the rectangles' extent are binned on a grid of cells as large as
+    the typical rectangle and sorted by cell, so each box visits the runs of cells it covers, a
+    column at a time."""
+    within = np.flatnonzero(((xy >= lo.min(axis=0)) & (xy <= hi.max(axis=0))).all(axis=1))
+    if not len(within):
+        return within, within
+    xy = xy[within]
+    cell = max(float(np.median(hi - lo)), 1e-6)
+    origin = xy.min(axis=0)
+    ij = np.floor((xy - origin) / cell).astype(np.int64)
+    rows = int(ij[:, 1].max()) + 3
+    key = ij[:, 0] * rows + ij[:, 1]
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    a = np.floor((lo - origin) / cell).astype(np.int64).clip(-1, None)
+    b = np.floor((hi - origin) / cell).astype(np.int64).clip(None, [int(ij[:, 0].max()) + 1,
+                                                                      rows - 2])
+    columns = np.maximum(b[:, 0] - a[:, 0] + 1, 0)
+    box = np.repeat(np.arange(len(lo)), columns)
+    column = np.repeat(a[:, 0] - np.cumsum(columns) + columns, columns) + np.arange(columns.sum())
+    start = np.searchsorted(key, column * rows + a[box, 1], "left")
+    counts = np.searchsorted(key, column * rows + b[box, 1], "right") - start
+    box = np.repeat(box, counts)
+    point = order[np.repeat(start - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())]
+    inside = ((xy[point] >= lo[box]) & (xy[point] <= hi[box])).all(axis=1)
+    return within[point[inside]], box[inside]
 
 
 CONTACT_FOAM_REACH = 0.5  # metres of foam around an object, beyond the waves' own height

@@ -41,6 +41,8 @@ def play(obj, path, relative, recording):
     obj.projgrid.bake_camera = shot.scene_camera(bpy.context.scene,
                                                  frame=recording.first).name
     obj.projgrid.bake_frames = (recording.first, recording.last)
+    obj.projgrid.bake_fingerprints = " ".join(
+        recording.fingerprints.get(f, "") for f in range(recording.first, recording.last + 1))
     RUNTIME.state(obj).key = None
     mesh.empty(obj.data)  # the cache gives the mesh: what is left is empty if it gives none
     chain = [obj.data.name, obj.name]

@@ -44,6 +44,7 @@ class Recording:
     godrays: dict = field(default_factory=dict)  # frame -> shown (the branch not muted)
     tiles: dict = field(default_factory=dict)  # frame -> caustic tile file name
     drifts: dict = field(default_factory=dict)  # gust drift socket path -> {frame: expression}
+    fingerprints: dict = field(default_factory=dict)  # frame -> gather.fingerprint
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
     frames: str = ""  # a folder of each frame's mesh arrays (`keep`), read by the export
     replaying: bool = False  # the exporter runs: the frames are written from `frames`
@@ -57,11 +58,13 @@ def baking(app):
     return recording
 
 
-def keep(frame, arrays):
-    """Keep frame `frame`'s mesh arrays (mesh.grid_arrays; None: empty) for the export."""
+def keep(frame, arrays, fingerprint):
+    """Keep frame `frame`'s mesh arrays (mesh.grid_arrays; None: empty) for the export, and
+    what it was built for (gather.fingerprint)."""
     recording = RUNTIME.baking
     if recording.replaying or not recording.first <= frame <= recording.last:
         return
+    recording.fingerprints[frame] = fingerprint
     try:
         np.savez(kept_path(recording, frame), **(arrays or {}))
     except OSError as err:

@@ -147,6 +147,7 @@ def free(obj):
         bpy.data.batch_remove([cache])
     obj.projgrid.bake_camera = ""
     obj.projgrid.bake_frames = (0, 0)
+    obj.projgrid.bake_fingerprints = ""
     RUNTIME.state(obj).key = None
     return mod is not None
 
@@ -166,7 +167,21 @@ def stale(the_scene, obj):
     if the_scene.frame_start < start or the_scene.frame_end > end:
         return (f"baked frames {start}-{end}, the scene renders "
                 f"{the_scene.frame_start}-{the_scene.frame_end}")
-    return None
+    state = RUNTIME.peek(obj)
+    return state.stale if state is not None else None
+
+
+def changed(obj, frame, now):
+    """Why baked frame `frame` of `obj` no longer shows what it would be built for now (`now`:
+    gather.fingerprint), or None (also outside the baked frames)."""
+    start, end = obj.projgrid.bake_frames
+    kept = obj.projgrid.bake_fingerprints.split(" ")
+    if not start <= frame <= end or len(kept) != end - start + 1 or not kept[frame - start]:
+        return None
+    was = kept[frame - start].split(":")
+    what = [name for name, a, b in zip(("the camera or where the ocean shows", "its settings"),
+                                        was, now.split(":"), strict=True) if a != b]
+    return f"{' and '.join(what)} changed since frame {frame} was baked" if what else None
 
 
 BAKED_LAYER = "Projected Grid Bake Slopes"  # and the band's number: a bake's image sequence

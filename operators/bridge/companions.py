@@ -156,37 +156,32 @@ def companions_of(obj):
             if c is not None and owns(c) and c != obj]
 
 
-def follow_visibility(surface, app, shown, render, view_layer, relink):
-    """A stand-in and the companions follow their ocean where it shows: hidden with it (in
-    renders by the render's own evaluation, in the viewport by the objects' flags and, in
-    `view_layer` alone, its eye), a holdout and indirect-only with it (its collections' flags
-    included); returns (hidden in renders, hidden in the viewport). The ocean's own flags are
-    the user's and are never written. Companions share the surface's collections, so they also
+def follow_visibility(surface, app, seen, render, view_layer, relink):
+    """A stand-in and the companions follow their ocean where it shows (`seen`:
+    gather.Visibility): hidden with it (in renders by the render's own evaluation, in the
+    viewport by the objects' flags and, in `view_layer` alone, its eye), a holdout and
+    indirect-only with it (its collections' flags included). The ocean's own flags are the
+    user's and are never written. Companions share the surface's collections, so they also
     share its view-layer exclusion (checked when `relink`: the collections may have changed)."""
-    hidden_render = any(o.hide_render for o in app.objects) or (render and not shown)
-    hidden_viewport = any(o.hide_viewport for o in app.objects)
-    holdout, indirect = app.layer_flags(view_layer)
-    eye = not render and not shown  # hidden in this view layer only
     ours = ([surface] if surface is not app.ocean else []) + companions_of(surface)
     for obj in ours:
-        assign(obj, is_holdout=holdout)
+        assign(obj, is_holdout=seen.holdout)
         if obj is surface:
-            assign(obj, hide_render=hidden_render, hide_viewport=hidden_viewport,
-                   visible_camera=not indirect)
+            assign(obj, hide_render=seen.hidden_render, hide_viewport=seen.hidden_viewport,
+                   visible_camera=not seen.indirect)
         else:  # only hidden here; place_companions shows what an effect needs
-            if hidden_render:
+            if seen.hidden_render:
                 assign(obj, hide_render=True)
-            if hidden_viewport:
+            if seen.hidden_viewport:
                 assign(obj, hide_viewport=True)
-        if not render and hidden_in(obj, view_layer) != eye:
+        if not render and hidden_in(obj, view_layer) != seen.eye:
             try:
-                obj.hide_set(eye, view_layer=view_layer)
+                obj.hide_set(seen.eye, view_layer=view_layer)
             except RuntimeError:  # not in this view layer
                 pass
         if relink and obj is not surface and (
                 set(obj.users_collection) != set(surface.users_collection)):
             _link_like(obj, surface)
-    return hidden_render, hidden_viewport
 
 
 def hide_companions(obj):

@@ -39,7 +39,11 @@ def frame_change_post(the_scene, depsgraph=None):
         depsgraph = bpy.context.evaluated_depsgraph_get()
     render = depsgraph.mode == "RENDER"
     if not render:
-        scene.note_updates(the_scene, [u.id for u in depsgraph.updates], len(bpy.data.objects))
+        updates = depsgraph.updates
+        if len(updates) > scene.MANY_UPDATES:  # (walking them would cost more than the frame)
+            scene.note_frame(the_scene, len(bpy.data.objects))
+        else:
+            scene.note_updates(the_scene, [u.id for u in updates], len(bpy.data.objects))
     frame.update_scene(the_scene, depsgraph, render, frame_change=True)
     if RUNTIME.baking:
         bake_record.progress(the_scene.frame_current)
@@ -87,6 +91,9 @@ def prepare(the_scene):
     apps = scene.appearances(the_scene)
     companions.remove_stale_stand_ins(the_scene, apps, everywhere=True)
     for app in apps:
+        if not any(app.in_layer(layer, render=True) for layer in the_scene.view_layers
+                   if layer.use):
+            continue  # it renders in no view layer: no stand-in for it
         surface = companions.surface_for(app, the_scene, create=True)
         if surface is not None and scene.owns(surface.data):
             companions.ensure_companions(surface)

@@ -31,27 +31,36 @@ def _find_sun(scene):
 class ObjectBoxes:
     """World bounding boxes of a scene's visible geometry (other than oceans and ours), and
     which are in view or mirrored in view for each of the last few (camera, level) the oceans
-    showing asked about (`_View`), refreshed row by row; a view's facts are kept while nothing
-    in it or mirrored in it changes."""
+    showing asked about (`_View`); a view's facts are kept while nothing in it or mirrored in
+    it changes. In the viewport every box is read at once (the scene's objects' bound boxes,
+    matrices and switches through foreach_get), and an update's moved objects are re-read
+    together (`refresh`); a render reads each object as its own evaluation has it."""
 
     VIEWS = 4  # two oceans, or a stand-in per instance, each keep their own flags
+    BULK = 16  # objects moved in one update from which every box is re-read at once
 
     def __init__(self, scene, render, depsgraph=None):
-        self.render, self.depsgraph = render, depsgraph
-        self.objects = [o for o in scene.objects if self._counts(o)]
+        self.scene, self.render, self.depsgraph = scene, render, depsgraph
+        every = list(scene.objects)
+        self.rows = np.array([i for i, o in enumerate(every) if self._counts(o)], dtype=int)
+        self.objects = [every[i] for i in self.rows]
         self.names = [o.name for o in self.objects]
         self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
         self.boxes = np.zeros((len(self.objects), 8, 3))
         self.hidden = np.zeros(len(self.objects), dtype=bool)
         self._local = np.empty(24, dtype=np.float32)
         self.views = {}  # (camera key, level) -> _View, oldest first
-        for i in range(len(self.objects)):
-            self._read(i)
+        if render:
+            for i in range(len(self.objects)):
+                self._read(i)
+        else:
+            self._read_all(len(every))
 
     def _counts(self, obj):
         return (obj.type in GEOMETRY_TYPES and not obj.projgrid.is_ocean and not owns(obj))
 
     def _read(self, i):
+        """Row i read from its object alone (its evaluated geometry's box in renders)."""
         obj = self.objects[i]
         self.names[i] = obj.name
         if self.depsgraph is not None:
@@ -60,26 +69,68 @@ class ObjectBoxes:
         obj.bound_box.foreach_get(self._local)  # the evaluated geometry's box
         world = np.array(obj.matrix_world, dtype=np.float64)
         self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
-        for view in self.views.values():
-            view.see(self.boxes, np.array([i]))
 
-    def refresh(self, obj):
-        """Re-read an object an update touched; returns whether it may matter to the facts of
-        some view: it is in it or mirrored in it, before or after, or its visibility changed (an
-        unknown object is new: the cache is rebuilt at the next structural change)."""
-        i = self.index.get(obj.session_uid)
-        if i is None:
+    def _read_all(self, count):
+        """Every row read at once from the scene's objects (`count` of them, in the order
+        `rows` index): viewport only."""
+        objects = self.scene.objects
+        if len(objects) != count:  # (an update changed them: the cache is rebuilt after it)
+            return
+        local = np.empty(count * 24, dtype=np.float32)
+        objects.foreach_get("bound_box", local)
+        world = np.empty(count * 16, dtype=np.float32)
+        objects.foreach_get("matrix_world", world)  # (column-major)
+        hidden = np.empty(count, dtype=bool)
+        objects.foreach_get("hide_viewport", hidden)
+        rows = self.rows
+        world = world.reshape(count, 4, 4).transpose(0, 2, 1)[rows].astype(np.float64)
+        corners = local.reshape(count, 8, 3)[rows]
+        self.boxes[:] = (np.einsum("nkj,nij->nki", corners, world[:, :3, :3])
+                         + world[:, None, :3, 3])
+        self.hidden[:] = hidden[rows]
+        self.names = [o.name for o in self.objects]
+
+    def refresh(self, objects):
+        """Re-read the rows of the objects an update touched; returns whether they may matter
+        to the facts of some view: in it or mirrored in it, before or after, or their
+        visibility changed (an unknown object is new: the cache is rebuilt at the next
+        structural change)."""
+        found = [self.index.get(o.session_uid) for o in objects]
+        if any(i is None for i in found):
             return True
-        before = [view.flags(i) for view in self.views.values()]
-        hidden = bool(self.hidden[i])
-        self._read(i)
-        matters = not self.views or hidden != bool(self.hidden[i])
-        for view, was in zip(self.views.values(), before, strict=True):
+        rows = np.unique(np.array(found, dtype=int))
+        if rows.size == 0:
+            return False
+        before = [(view.in_view[rows].copy(), view.mirrored[rows].copy())
+                  for view in self.views.values()]
+        hidden = self.hidden[rows].copy()
+        if rows.size >= self.BULK and not self.render:
+            self._read_all(len(self.scene.objects))
+        else:
+            for i in rows:
+                self._read(i)
+        matters = not self.views or bool((hidden != self.hidden[rows]).any())
+        for view, (was_in, was_mirrored) in zip(self.views.values(), before, strict=True):
+            view.see(self.boxes, rows)
             # Entered or left the view, or moved while seen there.
-            if was != view.flags(i) or (any(was) and not hidden):
+            seen_before = (was_in | was_mirrored) & ~hidden
+            if ((was_in != view.in_view[rows]).any() or (was_mirrored != view.mirrored[rows]).any()
+                    or seen_before.any()):
                 view.version += 1
                 matters = True
         return matters
+
+    def refresh_all(self):
+        """Every row read again (the frame changed: anything animated may have moved)."""
+        if self.render:
+            for i in range(len(self.objects)):
+                self._read(i)
+        else:
+            self._read_all(len(self.scene.objects))
+        rows = np.arange(len(self.objects))
+        for view in self.views.values():
+            view.see(self.boxes, rows)
+            view.version += 1
 
     def facts_objects(self, camera, level, key):
         """(SceneObjects (effects.py) of the boxes in view or mirrored in view, their compact
@@ -125,9 +176,10 @@ class _View:
         return bool(self.in_view[i]), bool(self.mirrored[i])
 
 
-def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, settings):
+def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, settings):
     """effects.SceneFacts of this frame: camera against the water, the objects in view, the
-    sun (`sun`: the evaluated lamp or None) and the wind. Heights are relative to the level."""
+    sun (`sun`: the evaluated lamp or None) and the wind. Heights are relative to the level; the
+    waves' bound is the plan's (frame_plan.plan), 0 here."""
     elevation = direction = None
     if sun is not None:
         direction = tuple(shading.sun_direction(sun.matrix_world))
@@ -144,7 +196,7 @@ def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, hf, se
                 cache.boxes = ObjectBoxes(scene, False)
             boxes = cache.boxes
         objects, objects_key = boxes.facts_objects(camera, level, (camera_key, level))
-    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=hf.bound,
+    return effects.SceneFacts(camera_height=float(camera.position[2] - level), bound=0.0,
                               wind_speed=settings.wind_speed, sun_elevation=elevation,
                               objects=objects, sun_direction=direction,
                               objects_key=objects_key)

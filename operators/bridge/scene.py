@@ -9,16 +9,12 @@ everything afresh from the render's own evaluation.
 """
 
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import bpy
 import numpy as np
 
-from ...projgrid_addon import HeightField, effects
+from ...projgrid_addon import frame_plan
 from ...projgrid_addon.projected_grid import check_resolution
-from ...projgrid_addon.sea_states import noise_waves
-from ...projgrid_addon.spectral_field import SpectralField
-from ...projgrid_addon.spectrum import SeaState
 from ...shaders.nodes import TAG
 from .state import RUNTIME
 
@@ -34,15 +30,8 @@ STAND_IN = "projgrid_stand_in"  # ID property of a stand-in: the appearance key 
 # Object types with geometry that can stand in, on or under the water.
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME",
                   "GPENCIL", "GREASEPENCIL"}
-# Settings whose value is part of a build's key (every input of the rebuild).
-SETTINGS = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution_y",
-            "noise_from_wind", "amplitude", "wave_scale", "octaves", "roughness", "speed", "seed",
-            "projector_elevation", "noise", "wind_speed", "height_source", "spectrum",
-            "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
-            "swell_period", *effects.EFFECTS)
-# The ocean's look: colours, clarity and gusts written into our materials (part of a build's
-# key).
-LOOK = ("water_colour", "foam_colour", "clarity", "gusts")
+# A frame change updating more data-blocks than this is followed in bulk (note_frame).
+MANY_UPDATES = 64
 # The effects whose AUTO decision looks at the objects in view (and the ON ones that use them).
 OBJECT_EFFECTS = ("contact_foam", "refraction", "caustics", "local_reflections")
 
@@ -62,47 +51,9 @@ def writable(obj):
     return local(obj) and obj.data is not None and local(obj.data)
 
 
-def look(settings):
-    """The (possibly evaluated) settings' LOOK as plain values."""
-    return tuple(tuple(v) if hasattr(v, "__len__") else float(v)
-                 for v in (getattr(settings, p) for p in LOOK))
-
-
 def height_field(settings):
-    """The core height source for (possibly evaluated) settings: the spectral sea
-    (SpectralField, kept while its settings stay) or the noise (HeightField), whose height and
-    wavelength are the wind's sea's with From Wind on."""
-    if settings.height_source == "SPECTRUM":
-        state = SeaState(wind_speed=settings.wind_speed,
-                         wind_direction=settings.wind_direction, fetch=settings.fetch,
-                         spectrum=settings.spectrum, swell_height=settings.swell_height,
-                         swell_direction=settings.swell_direction,
-                         swell_period=settings.swell_period)
-        return _spectral(state, settings.choppiness, settings.seed)
-    amplitude, wave_scale = settings.amplitude, settings.wave_scale
-    if settings.noise_from_wind:
-        amplitude, wave_scale = noise_waves(settings.wind_speed, settings.fetch,
-                                            settings.spectrum, settings.octaves,
-                                            settings.roughness)
-    return _noise(amplitude, wave_scale, settings.octaves, settings.roughness, settings.speed,
-                  settings.seed, settings.noise.lower(),
-                  settings.wind_direction, settings.choppiness)
-
-
-@lru_cache(maxsize=4)
-def _spectral(state, choppiness, seed):
-    """A SpectralField per settings (making one evaluates its spectrum over every tile)."""
-    return SpectralField(state, choppiness, seed)
-
-
-@lru_cache(maxsize=4)
-def _noise(amplitude, wave_scale, octaves, roughness, speed, seed, method, wind_direction,
-           choppiness):
-    """A HeightField per settings, kept so what it caches (its textures, the foam's
-    calibrations, which take 0.1 s a second of animation) serves the next frames."""
-    return HeightField(amplitude=amplitude, wave_scale=wave_scale, octaves=octaves,
-                       roughness=roughness, speed=speed, seed=seed, method=method,
-                       wind_direction=wind_direction, choppiness=choppiness)
+    """The core height source for (possibly evaluated) settings (frame_plan.height_source)."""
+    return frame_plan.height_source(frame_plan.settings_of(settings))
 
 
 def ocean_objects(scene):
@@ -150,32 +101,42 @@ def note_updates(scene, updates, object_count):
     if cache.counts != counts and object_count >= 0:
         cache.valid, cache.counts = False, counts
     relevant = not cache.valid
+    moved = []  # geometry whose boxes are read again together
     for id_block in updates:
         if isinstance(id_block, bpy.types.Collection):
             cache.valid, relevant = False, True
         elif isinstance(id_block, bpy.types.Object):
             obj = id_block.original
-            relevant = obj == scene.camera or _object_changed(cache, obj) or relevant
+            if obj == scene.camera or obj.type in ("CAMERA", "LIGHT"):
+                relevant = True
+                if obj.type == "LIGHT":
+                    cache.sun = None
+            elif obj.type == "EMPTY":
+                relevant = relevant or obj.instance_type == "COLLECTION"
+            elif obj.type in GEOMETRY_TYPES:
+                moved.append(obj)
         elif isinstance(id_block, (bpy.types.Scene, bpy.types.Camera, bpy.types.Light)):
             relevant = True
             if isinstance(id_block, bpy.types.Light):
                 cache.sun = None
+    if moved:
+        boxes = cache.boxes if cache.valid else None
+        relevant = (boxes.refresh(moved) if boxes is not None else True) or relevant
     return relevant
 
 
-def _object_changed(cache, obj):
-    """Whether a changed object can matter to an ocean; its box is read again if it has one."""
-    if obj.type in ("CAMERA", "LIGHT"):
-        if obj.type == "LIGHT":
-            cache.sun = None
-        return True
-    if obj.type == "EMPTY":
-        return obj.instance_type == "COLLECTION"
-    if obj.type not in GEOMETRY_TYPES:
-        return False
-    if not cache.valid or cache.boxes is None:
-        return True
-    return cache.boxes.refresh(obj)
+def note_frame(scene, object_count):
+    """Let the cache of `scene` follow a frame change in the viewport that updated more than
+    MANY_UPDATES data-blocks: every box is read again at once and the sun lamp looked for
+    again (walking the update's list cost more than the frame with thousands of animated
+    objects); a change in the file's counts of objects, collections or scenes drops it."""
+    cache = _file_cache(scene)
+    counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
+    if cache.counts != counts:
+        cache.valid, cache.counts = False, counts
+    cache.sun = None
+    if cache.valid and cache.boxes is not None:
+        cache.boxes.refresh_all()
 
 
 def valid_cache(scene):
@@ -261,7 +222,28 @@ class Appearance:
         the outermost one is not hidden in the depsgraph's view layer."""
         if not all(o.evaluated_get(depsgraph).is_evaluated for o in self.objects):
             return False
+        if not self.in_layer(depsgraph.view_layer, render):
+            return False
         return render or not hidden_in(self.top, depsgraph.view_layer)
+
+    def in_layer(self, view_layer, render):
+        """Whether the ocean, placed in the scene itself, is in `view_layer` through a
+        collection neither excluded nor, in renders, hidden in renders. (An object in such a
+        collection is still evaluated when the collection is instanced elsewhere: there it
+        shows, here it does not.) True for an appearance through instances or a background
+        set."""
+        if self.chain or self.scene not in self.ocean.users_scene:
+            return True
+        holders = set(self.ocean.users_collection)
+        todo = [view_layer.layer_collection]
+        while todo:
+            layer = todo.pop()
+            if layer.exclude or (render and layer.collection.hide_render):
+                continue
+            if layer.collection in holders:
+                return True
+            todo.extend(layer.children)
+        return False
 
     def layer_flags(self, view_layer):
         """(holdout, indirect only) of the outermost object in `view_layer`, its collections'

@@ -195,6 +195,9 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                                 "was made for (empty: not baked; bake.py)")
     bake_frames: IntVectorProperty(size=2, options={"HIDDEN"},
                                    description="The first and last frame of the ocean's bake")
+    bake_fingerprints: StringProperty(options={"HIDDEN"}, description="What each baked frame "
+                                      "was built for: its camera's and its settings' "
+                                      "fingerprints (gather.fingerprint), frame by frame")
     active_effects: EnumProperty(
         name="Active Effects", options={"ENUM_FLAG"}, get=_active_effects,
         description="The effects on for the current frame (read-only)",

@@ -21,6 +21,7 @@ class SurfaceState:
     key: tuple | None = None  # every input of the last build: an equal key skips the rebuild
     drawn_by: str | None = None  # on an ocean drawn by a stand-in: the stand-in's name
     generation: int = -1  # the scene structure its companions last followed
+    stale: str | None = None  # on a baked ocean: why the frame shown is out of date
 
     def refused(self, message):
         """Record that no grid was built, and why."""

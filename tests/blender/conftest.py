@@ -14,6 +14,8 @@ import pytest  # noqa: E402
 from tools.demo import MODULE, install  # noqa: E402
 from tools.package import build  # noqa: E402
 
+from .helpers import RENDER_RES, add_camera, add_ocean, spectral_sea  # noqa: E402
+
 
 @pytest.fixture(scope="session")
 def extension_zip(tmp_path_factory):
@@ -49,3 +51,22 @@ def state(bridge):
     return bridge.state.RUNTIME.state
 
 
+@pytest.fixture
+def moving():
+    """A spectral ocean seen by a camera that moves over frames 1..3 (the bake tests')."""
+    scene = bpy.context.scene
+    cam = add_camera(scene)
+    obj = add_ocean()
+    obj.projgrid.render_resolution_x, obj.projgrid.render_resolution_y = RENDER_RES
+    cam.keyframe_insert("location", frame=1)
+    cam.location.x += 5.0
+    cam.keyframe_insert("location", frame=3)
+    scene.frame_start, scene.frame_end = 1, 3
+    scene.frame_set(1)
+    return scene, obj
+
+
+@pytest.fixture
+def sea():
+    """A camera 6 m up looking along +Y a little down, and a spectral ocean at force 5."""
+    return spectral_sea()

@@ -1,11 +1,13 @@
 """Small helpers shared by the Blender tests."""
 
+from importlib import import_module
+
 import bpy
 import numpy as np
 
-from tools.demo import add_camera
+from tools.demo import MODULE, add_camera
 
-__all__ = ["RenderCapture", "add_camera", "add_ocean", "positions"]
+__all__ = ["RenderCapture", "add_camera", "add_ocean", "core", "positions", "workbench"]
 
 
 def positions(mesh):
@@ -63,3 +65,17 @@ class RenderCapture:
 
     def __exit__(self, *exc):
         bpy.app.handlers.render_post.remove(self)
+
+
+RENDER_RES = (17, 33)  # the bake tests' render grid
+
+
+def workbench(scene, size=(64, 36)):
+    r = scene.render
+    r.engine = "BLENDER_WORKBENCH"
+    r.resolution_x, r.resolution_y = size
+    r.resolution_percentage = 100
+
+
+def core(name):
+    return import_module(f"{MODULE}.projgrid_addon.{name}")

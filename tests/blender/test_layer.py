@@ -53,7 +53,7 @@ def test_shader_time_is_driven_not_written(bridge):
                                 for n in ("Gust Drift X", "Gust Drift Y", "Gust Path")]))
     detail = bridge.scene.height_field(obj.projgrid).shader_detail(
         *bridge.state.RUNTIME.state(obj).grid.shader_octaves)
-    assert driver.expression == bridge.frame.material_inputs.drive_expression(
+    assert driver.expression == bridge.material_inputs.drive_expression(
         detail.time_rate * bridge.shot.seconds_per_frame(scene))  # unchanged since frame 2
     seconds = 28 * bridge.shot.seconds_per_frame(scene)
     assert np.isclose(values[1] - values[0], detail.time_rate * seconds, rtol=1e-5)

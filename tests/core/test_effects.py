@@ -9,7 +9,8 @@ from projgrid_addon.effects import SceneFacts, SceneObject, decide
 
 
 def facts(**kw):
-    base = {"camera_height": 10.0, "bound": 1.0, "wind_speed": 0.0, "sun_elevation": None}
+    base = {"camera_height": 10.0, "bound": 1.0, "reach": 1.0, "wind_speed": 0.0,
+            "sun_elevation": None}
     return SceneFacts(**{**base, **kw})
 
 
@@ -56,7 +57,8 @@ def test_objects_decide_by_their_place_against_the_water_and_the_view():
                    ("contact_foam", "refraction", "caustics", "local_reflections"))
     d = decide({}, facts(objects=[boat, rock, gull], sun_elevation=40.0))
     assert on(d) == {"contact_foam", "refraction", "caustics", "local_reflections"}
-    assert d["contact_foam"][1] == "'Boat' crosses the surface in view"
+    assert d["contact_foam"][1] == ("'Boat' crosses the surface in view, the waves' reach "
+                                    "±1 m (5 σ of their height)")
     assert d["refraction"][1] == "'Boat', 'Rock' is below the surface in view"
     assert d["caustics"][1].startswith("sun 40° above the horizon, 'Boat', 'Rock'")
     assert d["local_reflections"][1] == "'Boat', 'Gull' stands above the water, mirrored in view"

@@ -228,3 +228,29 @@ def test_a_frame_s_folding_spreads_as_the_calibration_s():
             assert mesh[inside].std() == pytest.approx(apart[inside].std(), rel=0.1), low
             compared += 1
     assert compared >= 3
+
+
+def test_contact_foam_of_many_boxes_is_each_box_s_nearest():
+    """Hundreds of turned boxes at once give every point the foam of its nearest box within
+    reach, as measuring each box on its own does."""
+    rng = np.random.default_rng(4)
+    x, y = rng.uniform(-60.0, 60.0, (2, 6000))
+    z = rng.uniform(-1.0, 1.0, 6000)
+    unit = np.array([[a, b, c] for a in (0, 1) for b in (0, 1) for c in (0, 1)], float)
+    boxes = []
+    for _ in range(300):
+        turn = rng.uniform(0.0, np.pi)
+        rot = np.array([[np.cos(turn), -np.sin(turn), 0.0], [np.sin(turn), np.cos(turn), 0.0],
+                        [0.0, 0.0, 1.0]])
+        size = rng.uniform(0.2, 4.0, 3)
+        boxes.append((unit - 0.5) * size @ rot.T + (*rng.uniform(-60.0, 60.0, 2), 0.0))
+    boxes = np.array(boxes)[:, [0, 1, 3, 2, 4, 5, 7, 6]]  # Blender's bound_box order
+    want = np.zeros(6000)
+    p = np.stack([x, y, z], axis=-1)
+    for corners in boxes:
+        edges = corners[[4, 3, 1]] - corners[0]
+        t = np.clip((p - corners[0]) @ edges.T / (edges * edges).sum(axis=1), 0.0, 1.0)
+        near = np.clip(1.0 - np.linalg.norm(p - corners[0] - t @ edges, axis=1) / 1.5, 0.0, 1.0)
+        want = np.maximum(want, near * near)
+    cover = foam.contact_foam(x, y, z, boxes, 1.5)
+    assert (want > 0.0).sum() > 200 and cover == pytest.approx(want, abs=1e-6)

@@ -161,8 +161,13 @@ def test_shaders_build_node_trees_and_write_nothing_per_frame(name):
 
 
 def source_files():
-    """The extension's own files (the modules the zip ships)."""
-    return [os.path.relpath(path, ROOT) for path in MODULES.values()]
+    """Every Python file of the project: the extension's, its tests' and its tools'."""
+    skip = {".git", "dist", "out", "__pycache__"}
+    for folder, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if d not in skip and not d.startswith(".")]
+        for name in files:
+            if name.endswith(".py"):
+                yield os.path.relpath(os.path.join(folder, name), ROOT)
 
 
 @pytest.mark.parametrize("path", sorted(source_files()))

@@ -29,7 +29,7 @@ def main(quick=False, only=None):
     from tools.demo import install
     from tools.package import build
 
-    from . import blender_bench, core_bench, report
+    from . import blender_bench, core_bench, memory_bench, render_bench, report
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
     bpy.ops.wm.read_homefile(use_empty=True)
@@ -54,13 +54,13 @@ def main(quick=False, only=None):
                                                  repeats=3 if quick else 7)),
         ("scene_update", lambda: blender_bench.scene_update_cost(
             counts=(0, 1000) if quick else (0, 1000, 10000), repeats=3 if quick else 7)),
-        ("effect_render", lambda: blender_bench.effect_render_cost(repeats=1 if quick else 3)),
-        ("memory", lambda: blender_bench.memory_cost(
+        ("effect_render", lambda: render_bench.effect_render_cost(repeats=1 if quick else 3)),
+        ("memory", lambda: memory_bench.memory_cost(
             sizes=((257, 513),) if quick else ((257, 513), (1025, 2049), (2049, 4097)))),
-        ("render", lambda: blender_bench.render_cost(
+        ("render", lambda: render_bench.render_cost(
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
-        ("flicker", lambda: blender_bench.flicker(DOCS, frames=3 if quick else 4)),
+        ("flicker", lambda: render_bench.flicker(DOCS, frames=3 if quick else 4)),
         ("pictures", lambda: pictures(quick)),  # last: it starts from empty files
     ]
     if only:  # re-measure some steps, keep the others from the last run

@@ -1,0 +1,84 @@
+"""The plan of a frame (projgrid_addon/frame_plan.py) runs on plain inputs without Blender:
+the grid, the effects on and their fields, the shader's values, the gusts' drift."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from projgrid_addon import effects, frame_plan, shading
+from projgrid_addon.camera import look_at, perspective
+from projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR
+
+SEA = dict(resolution_x=65, resolution_y=129, render_resolution_x=65, render_resolution_y=129,
+           noise_from_wind=True, amplitude=0.5, wave_scale=40.0, octaves=8, roughness=0.5,
+           speed=1.0, seed=0, projector_elevation=0.0, noise="FAST", wind_speed=12.0,
+           height_source="SPECTRUM", spectrum="JONSWAP", wind_direction=0.5, fetch=0.0,
+           choppiness=1.0, swell_height=0.0, swell_direction=0.0, swell_period=10.0,
+           **dict.fromkeys(effects.EFFECTS, "AUTO"), water_colour=WATER_COLOUR,
+           foam_colour=FOAM_COLOUR, clarity=10.0, gusts=1.0)
+
+
+def inputs(samples=None, frame=48.0, **settings):
+    s = frame_plan.Settings(**{**SEA, **settings})
+    view = look_at((0.0, 0.0, 6.0), (0.0, 100.0, 2.0))
+    proj = perspective(np.radians(50.0), 16 / 9, 0.1, 1e4)
+    facts = effects.SceneFacts(camera_height=6.0, bound=0.0, wind_speed=s.wind_speed,
+                               sun_elevation=20.0, sun_direction=(0.0, 0.94, 0.34))
+    return frame_plan.FrameInputs(
+        settings=s, render=False, resolution=(65, 129), camera=(view, proj), world=np.eye(4),
+        to_local=np.eye(3), time=frame / 24.0, frame=frame, per_frame=1.0 / 24.0,
+        render_width=960, facts=facts, sun_light=(1.0, 1.0, 1.0), sky_strength=1.0,
+        wind_samples=samples, vertices=0, our_material=True, volume_reach=100.0, ahead=False)
+
+
+def test_a_plan_is_a_pure_function_of_its_inputs():
+    a, b = frame_plan.plan(inputs()), frame_plan.plan(inputs())
+    assert a.result.visible and np.array_equal(a.result.positions, b.result.positions)
+    assert np.array_equal(a.whitecaps, b.whitecaps) and a.decisions == b.decisions
+    assert a.layer is not None and a.warning is None
+
+
+def test_effects_off_plan_no_fields():
+    """Foam at a gale is whitecaps per vertex and the sea's share for the shader; off, neither
+    (and no slope layer for a material that is not ours)."""
+    on = frame_plan.plan(inputs(foam="ON"))
+    assert on.on["foam"] and on.whitecaps.max() > 0.0
+    assert on.coverage == pytest.approx(effects.whitecap_coverage(12.0))
+    off = frame_plan.plan(inputs(**dict.fromkeys(effects.EFFECTS, "OFF")))
+    assert not any(off.on.values()) and off.coverage == 0.0 and off.caustics is None
+    assert off.godrays is None
+    assert frame_plan.plan(replace(inputs(), our_material=False)).layer is None
+
+
+def test_the_gusts_drift_by_the_wind_s_run():
+    """A steady wind drifts the gusts at its velocity (no offset); a keyframed one by its run
+    since frame 0: the driver, offset + frame x rate, reads the integral of its velocity."""
+    steady = frame_plan.plan(inputs()).drift
+    u, d = SEA["wind_speed"], SEA["wind_direction"]
+    assert np.allclose(steady, [(u * np.cos(d) / 24.0, 0.0), (u * np.sin(d) / 24.0, 0.0),
+                                (u / 24.0, 0.0)])
+    frames = np.append(np.arange(0.0, 48.0), 48.0)
+    speeds = 4.0 + 8.0 * frames / 48.0  # 4 -> 12 m/s, turning a quarter
+    directions = d + (np.pi / 2.0) * frames / 48.0
+    drift = frame_plan.gust_drift(frame_plan.Settings(**SEA), 1.0 / 24.0, 48.0,
+                                  (frames, speeds, directions))
+    run = shading.wind_run(frames / 24.0, speeds, directions)
+    for (rate, offset), want in zip(drift, run, strict=True):
+        assert offset + 48.0 * rate == pytest.approx(want)
+    x = np.trapezoid(speeds * np.cos(directions), frames / 24.0)
+    assert run[0] == pytest.approx(x, rel=1e-3)
+
+
+def test_auto_decides_by_the_reach_of_the_sea_in_a_shot():
+    """A rock whose top is 2 m under a Beaufort 4 sea (Hs about 1 m) crosses no surface: AUTO
+    takes the sea to reach 5 standard deviations of its heights (1.3 m), not its bound (the sum
+    of every band's extreme, 3 m here), and says so; 0.5 m under, it crosses."""
+    force_4 = dict(wind_speed=6.7, fetch=0.0, choppiness=0.8, foam="OFF")
+    for top, crossing in ((-2.0, False), (-0.5, True)):
+        rock = effects.SceneObject("Rock", -6.0, top, True, corners=np.zeros((8, 3)))
+        planned = replace(inputs(**force_4), facts=replace(inputs().facts, objects=[rock]))
+        plan = frame_plan.plan(planned)
+        on, reason = plan.decisions["contact_foam"]
+        assert on == crossing and "5 σ" in reason
+        assert plan.bound > 2.0  # the bound alone would have counted the rock as crossing
