@@ -7,7 +7,7 @@ calibrated every FOAM_PERIOD seconds over each band's fade-in, so foam is a func
 frame alone (a farm splitting frames renders the same foam)."""
 
 import threading
-from concurrent.futures import ThreadPoolExecutor
+import weakref
 
 import numpy as np
 
@@ -42,7 +42,7 @@ def sea_sample(span, samples=4096):
     return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
 
 
-def foam_thresholds(source, time, coverage, samples=16384):
+def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     """Whitecap thresholds of a height source's foam cue (its `foam_cue`: the height for the
     noise, how far the choppy surface folds for the spectrum), at each of its band limits
     (`foam_levels`): on a fixed pattern of sea points, the mean foam is `coverage` at the
@@ -54,103 +54,110 @@ def foam_thresholds(source, time, coverage, samples=16384):
     The sources' statistics drift with time (the noise's octaves move through their lattices;
     the spectrum's tiles hold finitely many waves, whose rare folds come and go: one threshold
     for all times let the cover drift between 0.55 and 1.6 times the coverage). So it is
-    calibrated every FOAM_PERIOD seconds and interpolated between, and a frame is a function of
-    the settings and its time alone: a farm splitting frames renders the same foam."""
+    calibrated every FOAM_PERIOD seconds (`calibration`, kept in `kept`: CALIBRATIONS by
+    default) and interpolated between, and a frame is a function of the settings and its time
+    alone: a farm splitting frames renders the same foam."""
+    kept = CALIBRATIONS if kept is None else kept
     coverage = min(max(float(coverage), 1e-6), 1.0)
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
-    a, b = (_calibration(source, t, coverage, samples) for t in (t0, t0 + FOAM_PERIOD))
+    a, b = (kept.get(source, (t, coverage, samples)) for t in (t0, t0 + FOAM_PERIOD))
     source.prepare(time)  # a calibration prepares it at its own time: back to the frame's
     f = (time - t0) / FOAM_PERIOD
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 
 
-FOAM_KEPT = 4  # calibrations a source keeps (the frame's two and two ahead)
-
-
-_AHEAD = {"pool": None, "pending": {}}
-
-
-_AHEAD_LOCK = threading.Lock()
-
-
-def calibrate_ahead(source, time, coverage, samples=16384):
-    """Start the whitecap calibrations of the next two FOAM_PERIODs after `time` on a worker
-    thread, so that playing a sequence does not stall each time a period begins (a spectral
-    calibration costs ten frames). What the worker makes is what `foam_thresholds` would
-    (the same function of the settings and the time, on the source's `twin`), put into the
-    source's own cache; a frame that needs one still being made waits for it. Returns the
-    number of calibrations started (0 for a source with no `twin`)."""
-    twin = getattr(source, "twin", None)
-    if twin is None:
-        return 0
+def ahead(time, coverage, samples=16384):
+    """The calibrations (their keys: time, coverage, samples) a sequence playing at `time`
+    needs next: those of the next two FOAM_PERIODs."""
     coverage = min(max(float(coverage), 1e-6), 1.0)
-    cache = source.__dict__.setdefault("_foam_calibrations", {})
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
-    started = 0
-    with _AHEAD_LOCK:
-        for t in (t0 + FOAM_PERIOD, t0 + 2.0 * FOAM_PERIOD):
-            key = (t, coverage, samples)
-            if key in cache or (id(cache), key) in _AHEAD["pending"]:
-                continue
-            if _AHEAD["pool"] is None:
-                _AHEAD["pool"] = ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam")
-            _AHEAD["pending"][id(cache), key] = _AHEAD["pool"].submit(
-                _calibrate_into, twin(), cache, key)
-            started += 1
-    return started
+    return [(t0 + k * FOAM_PERIOD, coverage, samples) for k in (1, 2)]
 
 
-def finish_ahead():
-    """Wait for the calibrations being made ahead: before Blender runs long native work (a
-    render, the bake's export) with no thread of ours beside it (one beside the USD export
-    crashed Blender 4.5 in its exporter)."""
-    with _AHEAD_LOCK:
-        pending = list(_AHEAD["pending"].values())
-    for job in pending:
-        job.exception()  # waits; a worker's error is the frame's to meet, not this one's
+class Calibrations:
+    """The whitecap calibrations made, kept per height source (which the plan keeps per
+    settings: frame_plan.height_source) and per (time, coverage, samples): KEPT a source, the
+    oldest made dropped first. Thread-safe: a calibration being made elsewhere (`reserve`d,
+    the Blender layer's worker) is waited for, not made twice."""
+
+    KEPT = 4  # the frame's two and two ahead
+
+    def __init__(self):
+        self._made = weakref.WeakKeyDictionary()  # source -> {key: calibration}
+        self._making = {}  # (id(source), key) -> threading.Event
+        self._lock = threading.Lock()
+
+    def get(self, source, key):
+        """The calibration of `source` at `key`, made here if nobody has or is making it."""
+        with self._lock:
+            made = self._made.get(source, {}).get(key)
+            making = self._making.get((id(source), key))
+        if made is None and making is not None:
+            making.wait()
+            with self._lock:
+                made = self._made.get(source, {}).get(key)
+        if made is None:
+            made = calibration(source, *key)
+            self.put(source, key, made)
+        return made
+
+    def has(self, source, key):
+        with self._lock:
+            return key in self._made.get(source, {}) or (id(source), key) in self._making
+
+    def reserve(self, source, keys):
+        """Of `keys`, those neither made nor being made, now marked as being made (by the
+        caller, who then `put`s each or `release`s it)."""
+        with self._lock:
+            free = [k for k in keys if k not in self._made.get(source, {})
+                    and (id(source), k) not in self._making]
+            for key in free:
+                self._making[id(source), key] = threading.Event()
+        return free
+
+    def put(self, source, key, made):
+        with self._lock:
+            made_here = self._made.setdefault(source, {})
+            made_here[key] = made
+            for old in list(made_here)[:-self.KEPT]:
+                del made_here[old]
+
+    def release(self, source, key):
+        """No longer being made (made, or failed): whoever waits for it goes on."""
+        with self._lock:
+            making = self._making.pop((id(source), key), None)
+        if making is not None:
+            making.set()
+
+    def making(self):
+        """How many calibrations are being made."""
+        with self._lock:
+            return len(self._making)
 
 
-def _calibrate_into(source, cache, key):
-    try:
-        return _calibration(source, *key, cache=cache)
-    finally:
-        with _AHEAD_LOCK:
-            _AHEAD["pending"].pop((id(cache), key), None)
+CALIBRATIONS = Calibrations()
 
 
-def _calibration(source, time, coverage, samples, cache=None):
-    if cache is None:
-        cache = source.__dict__.setdefault("_foam_calibrations", {})
-    key = (time, coverage, samples)
-    with _AHEAD_LOCK:
-        pending = _AHEAD["pending"].get((id(cache), key))
-    if pending is not None and threading.current_thread() is threading.main_thread():
-        pending.result()  # being made ahead: wait rather than make it twice
-    made = cache.get(key)
-    if made is None:
-        x, y = sea_sample(source.foam_span, samples)
-        xy = np.stack([x, y])
-        levels = np.asarray(source.foam_levels(), dtype=np.float64)
-        cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32))
-                for level in levels]
-        spreads = np.array([float(cue.std()) for cue in cues])
-        placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
-        whole = float(np.interp(placed, levels, spreads))
-        widths = _ramp_widths(spreads, whole)
-        thresholds = []
-        for cue, spread, width in zip(cues, spreads, widths, strict=True):
-            # no wave here, nor any whitecap-long (WHITECAP_WAVE) for the ramp to stand for:
-            # no foam (a light air's, whose share is below FOAM_MIN_COVERAGE anyway)
-            if max(spread, whole) <= 1e-9 * (1.0 + float(np.abs(cue).max())):
-                thresholds.append(float(cue.max()) + NO_FOAM)
-            else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
-                thresholds.append(_covering(cue, coverage, width))
-        made = (levels, np.array(thresholds), widths)
-        with _AHEAD_LOCK:
-            cache[key] = made
-            for old in list(cache)[:-FOAM_KEPT]:  # the oldest made first
-                del cache[old]
-    return made
+def calibration(source, time, coverage, samples):
+    """One calibration of `source` at `time` (see foam_thresholds): (levels, thresholds,
+    widths), a function of the source's settings and the time alone."""
+    x, y = sea_sample(source.foam_span, samples)
+    xy = np.stack([x, y])
+    levels = np.asarray(source.foam_levels(), dtype=np.float64)
+    cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32)) for level in levels]
+    spreads = np.array([float(cue.std()) for cue in cues])
+    placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
+    whole = float(np.interp(placed, levels, spreads))
+    widths = _ramp_widths(spreads, whole)
+    thresholds = []
+    for cue, spread, width in zip(cues, spreads, widths, strict=True):
+        # no wave here, nor any whitecap-long (WHITECAP_WAVE) for the ramp to stand for: no
+        # foam (a light air's, whose share is below FOAM_MIN_COVERAGE anyway)
+        if max(spread, whole) <= 1e-9 * (1.0 + float(np.abs(cue).max())):
+            thresholds.append(float(cue.max()) + NO_FOAM)
+        else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
+            thresholds.append(_covering(cue, coverage, width))
+    return levels, np.array(thresholds), widths
 
 
 def _ramp_widths(spreads, placed):
@@ -192,6 +199,11 @@ def whitecaps(cue, lod, calibration):
     foam /= np.asarray(width, dtype=np.float32)
     foam += np.float32(0.5)
     return np.clip(foam, 0.0, 1.0, out=foam)
+
+
+def foam_coverage(wind_speed):
+    """The share of the sea the whitecaps are calibrated to cover at `wind_speed`."""
+    return min(max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE), 1.0)
 
 
 def contact_foam(x, y, z, boxes, width):
@@ -262,20 +274,16 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
-def foam_field(source, result, time, wind_speed, crests, boxes, level, ahead=False):
+def foam_field(source, result, time, wind_speed, crests, boxes, level):
     """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
     `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum. `result` is the frame's
     GridResult: the cue is taken at its grid points before any choppy displacement, and from
-    the grid itself where the source asks for it (the spectrum's folding). `ahead`: also
-    start the coming seconds' calibrations on a worker (`calibrate_ahead`), for playback."""
+    the grid itself where the source asks for it (the spectrum's folding)."""
     foam = None
     surface = result.surface
     if crests:
-        coverage = max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE)
-        calibration = foam_thresholds(source, time, coverage)
-        if ahead:
-            calibrate_ahead(source, time, coverage)
+        calibration = foam_thresholds(source, time, foam_coverage(wind_speed))
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lod = result.lod.reshape(xy.shape[1:])
         foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)

@@ -94,7 +94,7 @@ class FrameInputs:
     vertices: int  # the drawing mesh's vertices now (memory.check_grid)
     our_material: bool  # the mesh draws our water material (else no slope layer is made)
     volume_reach: float  # m: as far as EEVEE draws volumes
-    ahead: bool  # calibrate the coming seconds' foam ahead (the viewport's frames only)
+    ahead: bool  # the coming seconds' foam may be calibrated ahead (the viewport's frames)
 
 
 @dataclass(eq=False)
@@ -102,6 +102,7 @@ class FramePlan:
     """Everything one frame writes, computed."""
 
     camera: Camera
+    source: object  # the height source (HeightField or SpectralField)
     result: object  # GridResult
     decisions: dict  # {effect: (on, reason)}
     on: dict  # {effect: on}
@@ -140,8 +141,8 @@ def plan(inputs):
     on = {e: d[0] for e, d in decisions.items()}
     visible = result.visible
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
-    whitecaps = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes, level,
-                                 ahead=inputs.ahead) if visible else None)
+    whitecaps = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes, level)
+                 if visible else None)
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
     layer = None
@@ -152,7 +153,7 @@ def plan(inputs):
     light = optics.body_light(np.asarray(inputs.sun_light, dtype=np.float64),
                               inputs.sky_strength, DAYLIGHT, DAYLIGHT_SUN)
     return FramePlan(
-        camera=cam, result=result, decisions=decisions, on=on, bound=hf.bound,
+        camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=hf.bound,
         whitecaps=whitecaps, caustics=caustics, godrays=godrays,
         detail=hf.shader_detail(*result.shader_octaves), ripple=hf.ripple()[0],
         filtering=shading.filtering(cam.proj, inputs.render_width, hf.slopes, s.wind_speed,

@@ -103,9 +103,9 @@ class SpectralField:
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
 
     def twin(self):
-        """The same sea for another thread (foam.calibrate_ahead): its cascades, caches
-        and calibrations shared (read only but for caches of what is a pure function of the
-        settings), its prepared fields its own."""
+        """The same sea for another thread (operators/bridge/ahead.py): its cascades and caches
+        shared (read only but for caches of what is a pure function of the settings), its
+        prepared fields its own."""
         other = copy.copy(self)
         other._prepared = None
         other.textures = []

@@ -9,7 +9,7 @@ import numpy as np
 from ...projgrid_addon.effects import EFFECTS
 from ...projgrid_addon.optics import GODRAY_TILE_TEXELS
 from ...shaders.nodes import assign
-from . import bake_record, companions, material_inputs, mesh, scene
+from . import ahead, bake_record, companions, material_inputs, mesh, scene
 from .state import RUNTIME
 
 
@@ -66,6 +66,8 @@ def frame(read, plan, refusal=None):
     state.camera = (plan.camera.view, plan.camera.proj)
     state.warning = plan.warning
     _write_materials(read, plan, surface, restructured)
+    if inputs.ahead and plan.on["foam"]:
+        ahead.calibrate(plan.source, inputs.time, inputs.settings.wind_speed)
     companions.place_companions(surface, plan.camera, float(inputs.world[2, 3]), plan.bound,
                                 plan.on, effects_in_use(), inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))

@@ -24,8 +24,7 @@ import tempfile
 
 import bpy
 
-from ...projgrid_addon import foam
-from . import material_inputs, scene, shot
+from . import ahead, material_inputs, scene, shot
 from .bake_play import play
 from .bake_record import SCRATCH, Recording, folder_of, kept_path
 from .baked import bag_curves, body_material, free, is_copy
@@ -118,7 +117,7 @@ class Bake:
         RUNTIME.baking = self.recording
         try:
             self.recording.frames = tempfile.mkdtemp(dir=folder, prefix=".projgrid-frames-")
-            foam.finish_ahead()
+            ahead.finish()
             context.window_manager.progress_begin(frame_start, frame_end)
         except BaseException:
             self._close()

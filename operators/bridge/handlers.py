@@ -14,8 +14,7 @@ import time
 import bpy
 from bpy.app.handlers import persistent
 
-from ...projgrid_addon import foam
-from . import bake_record, baked, companions, frame, material_inputs, scene
+from . import ahead, bake_record, baked, companions, frame, material_inputs, scene
 from .state import RUNTIME
 
 LOCK_MESSAGE = ("Projected Grid Ocean: switched on Render > Lock Interface for scene {!r} "
@@ -106,7 +105,7 @@ def render_init(the_scene, _=None):
     # its job thread: objects are made only with the interface locked (the viewport makes them
     # otherwise, at its next update).
     companions.use_viewport_mesh()  # after a render that ended without saying so
-    foam.finish_ahead()
+    ahead.finish()
     if bpy.app.background or the_scene.render.use_lock_interface:
         prepare(the_scene)
         for app in scene.appearances(the_scene):

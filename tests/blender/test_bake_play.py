@@ -220,18 +220,18 @@ def test_no_calibration_runs_beside_the_export(moving, bridge, extension, monkey
     the export crashed Blender 4.5)."""
     scene, obj = moving
     foam = extension.projgrid_addon.foam
-    slow = foam._calibrate_into
+    slow = bridge.ahead._make
 
     def calibrate(*args):
         time.sleep(0.3)
         return slow(*args)
 
-    monkeypatch.setattr(foam, "_calibrate_into", calibrate)
+    monkeypatch.setattr(bridge.ahead, "_make", calibrate)
     seen, progress = [], bridge.bake_record.progress
     monkeypatch.setattr(bridge.bake_record, "progress", lambda frame: (
-        seen.append(len(foam._AHEAD["pending"])), progress(frame)))
+        seen.append(foam.CALIBRATIONS.making()), progress(frame)))
     scene.frame_set(60)  # a viewport frame 2.5 s in: seconds 3 and 4 are calibrated ahead
-    assert foam._AHEAD["pending"]
+    assert foam.CALIBRATIONS.making()
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
     assert seen and not any(seen)

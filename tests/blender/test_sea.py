@@ -118,14 +118,12 @@ def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension
     foam = extension.projgrid_addon.foam
     sea.projgrid.foam = "ON"
     scene = bpy.context.scene
-    for future in list(foam._AHEAD["pending"].values()):
-        future.result()
+    bridge.ahead.finish()
     scene.frame_set(30)  # 1.25 s at 24 fps: the calibrations of 2 s and 3 s are ahead
-    for future in list(foam._AHEAD["pending"].values()):
-        future.result()
+    bridge.ahead.finish()
     source = bridge.scene.height_field(sea.projgrid)
-    times = {key[0] for key in source._foam_calibrations}
-    assert {1.0, 2.0, 3.0} <= times
+    coverage = foam.foam_coverage(sea.projgrid.wind_speed)
+    assert all(foam.CALIBRATIONS.has(source, (t, coverage, 16384)) for t in (1.0, 2.0, 3.0))
 
 
 def test_the_noise_foam_at_a_strong_wind_is_not_empty():

@@ -1,6 +1,8 @@
 """The foam against Monahan's whitecap share: the fold cue a mesh shows, the calibration over
 time and band limit, the shader's grain and the far sea's share."""
 
+import threading
+
 import numpy as np
 import pytest
 
@@ -134,22 +136,33 @@ def test_a_gale_s_far_sea_is_as_white_as_its_whitecaps_cover():
     assert cover[bare] == pytest.approx(want, rel=0.05)
 
 
-def test_the_coming_seconds_whitecaps_are_calibrated_ahead_alike():
-    """calibrate_ahead makes the next two seconds' calibrations on a worker, into the source's
-    own cache, bit for bit what the frame would make itself; asked again it starts nothing,
-    and a source without a twin (the noise) is left to calibrate itself."""
+def test_calibrations_are_kept_per_source_and_window_and_made_once():
+    """What foam_thresholds calibrates is kept (foam.Calibrations) per source and window: the
+    windows a playing sequence needs next are reserved once, one being made elsewhere (on the
+    source's twin, as the Blender layer's worker does) is waited for, not made again, and it
+    is bit for bit what the frame would make itself."""
     source = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
-    coverage = effects.whitecap_coverage(12.0)
-    assert foam.calibrate_ahead(source, 10.3, coverage) == 2
-    foam.finish_ahead()
-    assert not foam._AHEAD["pending"]
-    assert foam.calibrate_ahead(source, 10.6, coverage) == 0  # made: nothing to start
+    kept = foam.Calibrations()
+    coverage = foam.foam_coverage(12.0)
+    foam.foam_thresholds(source, 10.3, coverage, kept=kept)
+    keys = foam.ahead(10.3, coverage)
+    assert [k[0] for k in keys] == [11.0, 12.0] and kept.has(source, keys[0])
+    assert kept.reserve(source, keys) == [keys[1]] and kept.reserve(source, keys) == []
+    made = []
+
+    def worker():
+        made.append(foam.calibration(source.twin(), *keys[1]))
+        kept.put(source, keys[1], made[0])
+        kept.release(source, keys[1])
+
+    thread = threading.Thread(target=worker)
+    thread.start()
+    got = kept.get(source, keys[1])  # waits for the worker's
+    thread.join()
+    assert got is made[0] and kept.making() == 0
     fresh = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
-    for t in (11.0, 12.0):
-        made = source._foam_calibrations[(t, coverage, 16384)]
-        want = foam._calibration(fresh, t, coverage, 16384)
-        assert all(np.array_equal(a, b) for a, b in zip(made, want, strict=True))
-    assert foam.calibrate_ahead(HeightField(), 10.3, coverage) == 0
+    want = foam.calibration(fresh, *keys[1])
+    assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
 
 
 @pytest.mark.parametrize("share", [0.002, 0.01, 0.05, 0.3, 0.7, 0.95, 1.0])

@@ -29,7 +29,7 @@ def main(quick=False, only=None):
     from tools.demo import install
     from tools.package import build
 
-    from . import blender_bench, core_bench, memory_bench, render_bench, report
+    from . import blender_bench, core_bench, memory_bench, render_bench, report, scene_bench
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
     bpy.ops.wm.read_homefile(use_empty=True)
@@ -52,8 +52,10 @@ def main(quick=False, only=None):
         ("playback", lambda: blender_bench.playback_cost(seconds=2 if quick else 3)),
         ("bake", lambda: blender_bench.bake_cost(frames=12 if quick else 24,
                                                  repeats=3 if quick else 7)),
-        ("scene_update", lambda: blender_bench.scene_update_cost(
+        ("scene_update", lambda: scene_bench.scene_update_cost(
             counts=(0, 1000) if quick else (0, 1000, 10000), repeats=3 if quick else 7)),
+        ("moving_objects", lambda: scene_bench.moving_objects_cost(
+            counts=(0, 500) if quick else (0, 2000), repeats=3 if quick else 9)),
         ("effect_render", lambda: render_bench.effect_render_cost(repeats=1 if quick else 3)),
         ("memory", lambda: memory_bench.memory_cost(
             sizes=((257, 513),) if quick else ((257, 513), (1025, 2049), (2049, 4097)))),

@@ -137,14 +137,13 @@ def sea_cost(repeats=45):
               "spectrum 65×129 (viewport)": ours(65, "SPECTRUM", (65, 129))}
     # No whitecap calibrations ahead on the worker (playback_cost measures those): its
     # thread would take the second core from the Ocean modifier's threads.
-    foam = extension().projgrid_addon.foam
-    ahead, foam.calibrate_ahead = foam.calibrate_ahead, (lambda *a, **k: 0)
-    for future in list(foam._AHEAD["pending"].values()):
-        future.result()
+    bridge = extension().operators.bridge
+    ahead, bridge.ahead.calibrate = bridge.ahead.calibrate, (lambda *a, **k: 0)
+    bridge.ahead.finish()
     try:
         times = interleaved({k: (lambda s=s: step(s)) for k, s in scenes.items()}, repeats)
     finally:
-        foam.calibrate_ahead = ahead
+        bridge.ahead.calibrate = ahead
     for s in scenes.values():
         bpy.data.scenes.remove(s)
     return [{"variant": k, **v.ms()} for k, v in times.items()]
@@ -153,11 +152,11 @@ def sea_cost(repeats=45):
 def playback_cost(seconds=3, rounds=2):
     """Frame times while playing the spectral sea on the viewport grid (Beaufort 5, foam on):
     `seconds` of consecutive frames, with the coming seconds' whitecap calibrations made
-    ahead on a worker thread (foam.calibrate_ahead) and with each made by the frame that
+    ahead on a worker thread (operators/bridge/ahead.py) and with each made by the frame that
     first needs it, alternately, each round at times of its own. Per variant: the median,
     90th percentile and slowest frame, and the frames slower than twice the median (stalls)."""
-    foam = extension().projgrid_addon.foam
-    ahead = foam.calibrate_ahead
+    bridge = extension().operators.bridge
+    ahead = bridge.ahead.calibrate
     scene = projected_scene(65)
     obj = _ocean(scene)
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0],
@@ -170,9 +169,8 @@ def playback_cost(seconds=3, rounds=2):
     try:
         for r in range(rounds):
             for n, variant in enumerate(frames):
-                foam.calibrate_ahead = ahead if n == 0 else (lambda *a, **k: 0)
-                for future in list(foam._AHEAD["pending"].values()):
-                    future.result()  # the worker idle as each variant starts
+                bridge.ahead.calibrate = ahead if n == 0 else (lambda *a, **k: 0)
+                bridge.ahead.finish()  # the worker idle as each variant starts
                 first = start + (2 * r + n) * 200 * scene.render.fps // 24
                 scene.frame_set(first)
                 for f in range(first + 1, first + 1 + seconds * scene.render.fps):
@@ -180,7 +178,7 @@ def playback_cost(seconds=3, rounds=2):
                     scene.frame_set(f)
                     frames[variant].append(time.perf_counter() - t)
     finally:
-        foam.calibrate_ahead = ahead
+        bridge.ahead.calibrate = ahead
         bpy.data.scenes.remove(scene)
     rows = []
     for variant, times in frames.items():
@@ -306,77 +304,6 @@ def effect_cost(n=257, repeats=15):
                      "active": sorted(ocean.projgrid.active_effects)})
     for s in scenes.values():
         bpy.data.scenes.remove(s)
-    return rows
-
-
-def scene_update_cost(counts=(0, 1000, 10000), repeats=7):
-    """Viewport cost of a depsgraph update in a scene of `count` small objects scattered around
-    the ocean (the effects at AUTO look at them): the whole update with our handler and without
-    it, interleaved, and the time spent inside our handler (our own share, which the difference
-    of the two whole updates measures only as well as a shared machine allows); after a camera
-    nudge (the ocean must follow) and after a move of one object behind the camera (unrelated to
-    the ocean: only that object's box is read again)."""
-    handlers = importlib.import_module(MODULE + ".operators.bridge.handlers")
-    ours_handler = handlers.depsgraph_update_post
-    spent = []
-
-    def timed(scene, depsgraph):
-        start = time.perf_counter()
-        ours_handler(scene, depsgraph)
-        spent.append(time.perf_counter() - start)
-
-    rows = []
-    rng = np.random.default_rng(3)
-    hook = bpy.app.handlers.depsgraph_update_post
-    hook.remove(ours_handler)
-    try:
-        for count in counts:
-            scene = projected_scene(65)
-            layer = scene.view_layers[0]
-            mesh = bpy.data.meshes.new("triangle")
-            mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
-            for x, y, z in rng.uniform((-300, -300, -5), (300, 300, 5), (count, 3)):
-                obj = bpy.data.objects.new("object", mesh)
-                obj.location = (x, y, z)
-                scene.collection.objects.link(obj)
-            behind = bpy.data.objects.new("behind the camera", mesh)
-            behind.location = (0.0, -50.0, 0.0)
-            scene.collection.objects.link(behind)
-            hook.append(timed)
-            layer.update()
-            inside = {}
-
-            def change(ours, what, kind, layer=layer, inside=inside):
-                if ours != (timed in hook):
-                    (hook.append if ours else hook.remove)(timed)
-                spent.clear()
-                what.location.x += 1e-3
-                layer.update()
-                if ours:
-                    inside.setdefault(kind, []).append(sum(spent))
-
-            moved = {"camera": scene.camera, "unrelated": behind}
-            variants = {(kind, ours): (lambda w=moved[kind], o=ours, k=kind: change(o, w, k))
-                        for kind in moved for ours in (True, False)}
-            with bpy.context.temp_override(scene=scene, view_layer=layer):
-                times = interleaved(variants, repeats)
-            if timed in hook:
-                hook.remove(timed)
-            rows.append({"objects": count,
-                         "ours_ms": times[("camera", True)].median * 1e3,
-                         "ours_p10_ms": times[("camera", True)].p10 * 1e3,
-                         "ours_cpu_ms": times[("camera", True)].cpu * 1e3,
-                         "without_ms": times[("camera", False)].median * 1e3,
-                         "handler_ms": float(np.median(inside["camera"])) * 1e3,
-                         "unrelated_ours_ms": times[("unrelated", True)].median * 1e3,
-                         "unrelated_ours_p10_ms": times[("unrelated", True)].p10 * 1e3,
-                         "unrelated_ours_cpu_ms": times[("unrelated", True)].cpu * 1e3,
-                         "unrelated_without_ms": times[("unrelated", False)].median * 1e3,
-                         "unrelated_handler_ms": float(np.median(inside["unrelated"])) * 1e3})
-            bpy.data.scenes.remove(scene)
-    finally:
-        if ours_handler not in hook:
-            hook.append(ours_handler)
     return rows
 
 

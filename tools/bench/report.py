@@ -14,7 +14,14 @@ from .report_format import (
     _spread,
     _table,
 )
-from .report_render import _effects, _memory, _pictures, _render, _scene_update
+from .report_render import (
+    _effects,
+    _memory,
+    _moving_objects,
+    _pictures,
+    _render,
+    _scene_update,
+)
 
 # The measurements behind design choices were taken once and are not re-run by the bench: they
 # live in docs/design.md, which the report points to.
@@ -349,7 +356,8 @@ def _bake(report):
 SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy),
             ("height_field", _height_field), ("precision", _precision),
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
-            ("scene_update", _scene_update), ("sea", _sea), ("bake", _bake),
+            ("scene_update", _scene_update), ("moving_objects", _moving_objects),
+            ("sea", _sea), ("bake", _bake),
             ("pictures", _pictures),
             ("memory", _memory))
 

@@ -1,0 +1,43 @@
+"""The coming seconds' whitecap calibrations, made ahead on a worker thread while the viewport
+plays: a spectral calibration costs about ten frames, so made by the frame that first needs
+it, playback would stall once a second. The core keeps them (foam.CALIBRATIONS) and waits for
+one being made here rather than make it twice. This is our only thread; it is finished before
+Blender runs long native work (a render, the bake's export), beside which none may run (one
+beside the USD export crashed Blender 4.5)."""
+
+from concurrent.futures import ThreadPoolExecutor
+
+from ...projgrid_addon import foam
+
+_POOL = []  # the worker, made when first needed
+_JOBS = []  # its futures not yet finished (main thread only)
+
+
+def calibrate(source, time, wind_speed):
+    """Start making the calibrations the next FOAM_PERIODs after `time` need, for a source with
+    a `twin` to make them on (the spectrum's; the noise's cost little); returns how many
+    started. What the worker makes is what the frame would (foam.calibration, a function of
+    the settings and the time), on the source's twin."""
+    twin = getattr(source, "twin", None)
+    if twin is None:
+        return 0
+    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, foam.foam_coverage(wind_speed)))
+    if keys and not _POOL:
+        _POOL.append(ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam"))
+    _JOBS[:] = [job for job in _JOBS if not job.done()]
+    _JOBS.extend(_POOL[0].submit(_make, twin(), source, key) for key in keys)
+    return len(keys)
+
+
+def _make(twin, source, key):
+    try:
+        foam.CALIBRATIONS.put(source, key, foam.calibration(twin, *key))
+    finally:
+        foam.CALIBRATIONS.release(source, key)
+
+
+def finish():
+    """Wait for the calibrations being made (a worker's error is the frame's to meet, when it
+    makes the calibration itself)."""
+    while _JOBS:
+        _JOBS.pop().exception()
