@@ -252,14 +252,14 @@ def _near_boxes(xy, lo, hi):
     key = ij[:, 0] * rows + ij[:, 1]
     order = np.argsort(key, kind="stable")
     key = key[order]
-    a = np.floor((lo - origin) / cell).astype(np.int64).clip(-1, None)
-    b = np.floor((hi - origin) / cell).astype(np.int64).clip(None, [int(ij[:, 0].max()) + 1,
-                                                                      rows - 2])
+    top = [int(ij[:, 0].max()) + 1, rows - 2]  # past the last column and row: no points
+    a = np.floor((lo - origin) / cell).astype(np.int64).clip(-1, top)
+    b = np.floor((hi - origin) / cell).astype(np.int64).clip(-1, top)
     columns = np.maximum(b[:, 0] - a[:, 0] + 1, 0)
     box = np.repeat(np.arange(len(lo)), columns)
     column = np.repeat(a[:, 0] - np.cumsum(columns) + columns, columns) + np.arange(columns.sum())
     start = np.searchsorted(key, column * rows + a[box, 1], "left")
-    counts = np.searchsorted(key, column * rows + b[box, 1], "right") - start
+    counts = np.maximum(np.searchsorted(key, column * rows + b[box, 1], "right") - start, 0)
     box = np.repeat(box, counts)
     point = order[np.repeat(start - np.cumsum(counts) + counts, counts) + np.arange(counts.sum())]
     inside = ((xy[point] >= lo[box]) & (xy[point] <= hi[box])).all(axis=1)

@@ -22,10 +22,16 @@ def calibrate(source, time, wind_speed):
     if twin is None:
         return 0
     keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, foam.foam_coverage(wind_speed)))
-    if keys and not _POOL:
-        _POOL.append(ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam"))
     _JOBS[:] = [job for job in _JOBS if not job.done()]
-    _JOBS.extend(_POOL[0].submit(_make, twin(), source, key) for key in keys)
+    for n, key in enumerate(keys):
+        try:
+            if not _POOL:
+                _POOL.append(ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam"))
+            _JOBS.append(_POOL[0].submit(_make, twin(), source, key))
+        except BaseException:  # (shutting down, say): none waits for what will not be made
+            for left in keys[n:]:
+                foam.CALIBRATIONS.release(source, left)
+            raise
     return len(keys)
 
 

@@ -4,6 +4,8 @@ stand-in made if missing, our objects following the ocean's visibility, our mesh
 material's inputs, our companions, the per-surface state the panel shows, and the frame kept
 for a bake being recorded. Only our own data is written."""
 
+import time
+
 import numpy as np
 
 from ...projgrid_addon.effects import EFFECTS
@@ -45,6 +47,7 @@ def frame(read, plan, refusal=None):
         mesh.empty(surface.data)
         return state.refused(refusal)
     inputs, result = read.inputs, plan.result
+    start = time.perf_counter()
     to_local = inputs.to_local
     if surface is not ocean:  # the stand-in sits where the ocean shows, unrotated
         assign(surface, location=tuple(inputs.world[:3, 3]), rotation_euler=(0.0, 0.0, 0.0),
@@ -61,16 +64,17 @@ def frame(read, plan, refusal=None):
     _keep(read, arrays)
     state.key, state.message, state.hidden = read.key, None, False
     state.vertices, state.grid = len(result.positions), result.without_surface()
-    state.ms, state.effects = plan.ms, plan.decisions
+    state.effects = plan.decisions
     state.resolution, state.render = res, inputs.render
     state.camera = (plan.camera.view, plan.camera.proj)
     state.warning = plan.warning
     _write_materials(read, plan, surface, restructured)
-    if inputs.ahead and plan.on["foam"]:
+    if inputs.ahead and plan.on["foam"] and result.visible:
         ahead.calibrate(plan.source, inputs.time, inputs.settings.wind_speed)
     companions.place_companions(surface, plan.camera, float(inputs.world[2, 3]), plan.bound,
                                 plan.on, effects_in_use(), inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))
+    state.ms = plan.ms + (time.perf_counter() - start) * 1e3  # planned and written
     return None
 
 

@@ -92,13 +92,14 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         camera = camera or shot.camera_for(the_scene, depsgraph, frame_change=frame_change)
         world = app.world(depsgraph)
         to_local = np.eye(3) if surface is not ocean else shot.ocean_axes(world)
+        cam = Camera(*camera)
+        level = float(world[2, 3])
+        sun = objects.sun_lamp(the_scene, depsgraph, render)
+        camera_key = cam.view.tobytes() + cam.proj.tobytes()
+        facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level,
+                                    s)
     except ValueError as e:
         return Gathered(**base, refusal=str(e), empty=True)
-    cam = Camera(*camera)
-    level = float(world[2, 3])
-    sun = objects.sun_lamp(the_scene, depsgraph, render)
-    camera_key = cam.view.tobytes() + cam.proj.tobytes()
-    facts = objects.scene_facts(the_scene, depsgraph, render, sun, cam, camera_key, level, s)
     sun_light = (0.0, 0.0, 0.0)
     if sun is not None:
         toward = shading.sun_direction(sun.matrix_world)
@@ -139,6 +140,7 @@ def fingerprint(app, the_scene, depsgraph, frame_change=True):
     except ValueError:
         camera = "none"
     s = frame_plan.settings_of(app.ocean.evaluated_get(depsgraph).projgrid)
+    s = s._replace(resolution_x=0, resolution_y=0)  # the viewport's grid: not baked
     return f"{camera}:{hashlib.sha1(repr(s).encode()).hexdigest()[:12]}"
 
 

@@ -42,6 +42,7 @@ class ObjectBoxes:
     def __init__(self, scene, render, depsgraph=None):
         self.scene, self.render, self.depsgraph = scene, render, depsgraph
         every = list(scene.objects)
+        self.count = len(every)  # the scene's objects `rows` index
         self.rows = np.array([i for i, o in enumerate(every) if self._counts(o)], dtype=int)
         self.objects = [every[i] for i in self.rows]
         self.names = [o.name for o in self.objects]
@@ -54,7 +55,7 @@ class ObjectBoxes:
             for i in range(len(self.objects)):
                 self._read(i)
         else:
-            self._read_all(len(every))
+            self._read_all()
 
     def _counts(self, obj):
         return (obj.type in GEOMETRY_TYPES and not obj.projgrid.is_ocean and not owns(obj))
@@ -70,11 +71,11 @@ class ObjectBoxes:
         world = np.array(obj.matrix_world, dtype=np.float64)
         self.boxes[i] = self._local.reshape(8, 3) @ world[:3, :3].T + world[:3, 3]
 
-    def _read_all(self, count):
-        """Every row read at once from the scene's objects (`count` of them, in the order
-        `rows` index): viewport only."""
-        objects = self.scene.objects
-        if len(objects) != count:  # (an update changed them: the cache is rebuilt after it)
+    def _read_all(self):
+        """Every row read at once from the scene's objects, as many as when `rows` was made
+        (else an update changed them and the cache is rebuilt after it): viewport only."""
+        objects, count = self.scene.objects, self.count
+        if len(objects) != count:
             return
         local = np.empty(count * 24, dtype=np.float32)
         objects.foreach_get("bound_box", local)
@@ -96,20 +97,19 @@ class ObjectBoxes:
         visibility changed (an unknown object is new: the cache is rebuilt at the next
         structural change)."""
         found = [self.index.get(o.session_uid) for o in objects]
-        if any(i is None for i in found):
-            return True
-        rows = np.unique(np.array(found, dtype=int))
+        unknown = any(i is None for i in found)
+        rows = np.unique(np.array([i for i in found if i is not None], dtype=int))
         if rows.size == 0:
-            return False
+            return unknown
         before = [(view.in_view[rows].copy(), view.mirrored[rows].copy())
                   for view in self.views.values()]
         hidden = self.hidden[rows].copy()
         if rows.size >= self.BULK and not self.render:
-            self._read_all(len(self.scene.objects))
+            self._read_all()
         else:
             for i in rows:
                 self._read(i)
-        matters = not self.views or bool((hidden != self.hidden[rows]).any())
+        matters = unknown or not self.views or bool((hidden != self.hidden[rows]).any())
         for view, (was_in, was_mirrored) in zip(self.views.values(), before, strict=True):
             view.see(self.boxes, rows)
             # Entered or left the view, or moved while seen there.
@@ -126,7 +126,7 @@ class ObjectBoxes:
             for i in range(len(self.objects)):
                 self._read(i)
         else:
-            self._read_all(len(self.scene.objects))
+            self._read_all()
         rows = np.arange(len(self.objects))
         for view in self.views.values():
             view.see(self.boxes, rows)

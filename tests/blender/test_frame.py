@@ -154,3 +154,20 @@ def test_many_moving_objects_are_read_at_once(bridge):
         alone = objects.ObjectBoxes(scene, True, depsgraph)
         assert len(alone.boxes) == count
         assert np.allclose(cache.boxes.boxes, alone.boxes, atol=1e-5)
+
+
+def test_a_moved_object_is_read_again_beside_our_own_updates(bridge):
+    """An update that moves the user's object and touches ours too (the ocean, whose box is not
+    kept) reads the object's box again, and says it may matter."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    bpy.ops.mesh.primitive_cube_add(location=(0.0, 30.0, 0.0))
+    cube = bpy.context.active_object
+    scene.frame_set(2)
+    boxes = bridge.objects.ObjectBoxes(scene, False)
+    cube.location.x += 50.0
+    bpy.context.view_layer.update()
+    assert boxes.refresh([obj, cube])
+    row = boxes.index[cube.session_uid]
+    assert boxes.boxes[row, :, 0].min() == pytest.approx(49.0, abs=1e-4)

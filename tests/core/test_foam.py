@@ -267,3 +267,15 @@ def test_contact_foam_of_many_boxes_is_each_box_s_nearest():
         want = np.maximum(want, near * near)
     cover = foam.contact_foam(x, y, z, boxes, 1.5)
     assert (want > 0.0).sum() > 200 and cover == pytest.approx(want, abs=1e-6)
+
+
+def test_contact_foam_of_boxes_beyond_the_points():
+    """Boxes whose rectangles lie past every point in y (or x) while overlapping them in the
+    other give no foam and raise nothing; one beside them still rings its points."""
+    x, y = np.meshgrid(np.linspace(0.0, 10.0, 21), np.linspace(0.0, 10.0, 21))
+    unit = np.array([[a, b, c] for a in (0, 1) for b in (0, 1) for c in (0, 1)], float)
+    unit = unit[[0, 1, 3, 2, 4, 5, 7, 6]]  # Blender's bound_box order
+    far = [unit + (2.0, 40.0, -0.5), unit + (40.0, 2.0, -0.5), unit + (-30.0, -30.0, -0.5)]
+    assert not foam.contact_foam(x, y, np.zeros_like(x), far, 1.0).any()
+    ringed = foam.contact_foam(x, y, np.zeros_like(x), [*far, unit + (4.0, 4.0, -0.5)], 1.0)
+    assert ringed.max() == 1.0 and ringed.sum() > 4.0
