@@ -50,7 +50,7 @@ def replay(seed, index):
 def stress(seed, count):
     print(f"stress: {count:,} fresh poses, seed {seed}", flush=True)
     worst = {}  # check: (ratio, index, pose)
-    failures = {}  # check: (count, first index)
+    failures = {}  # check: indices of the poses it failed
     start = time.perf_counter()
     for i, _, pose in fresh_poses(seed, count):
         ratios, failed = run(pose)
@@ -58,11 +58,10 @@ def stress(seed, count):
             if check not in worst or ratio > worst[check][0]:
                 worst[check] = (ratio, i, pose)
         if failed is not None:
-            n, first = failures.get(failed, (0, i))
-            failures[failed] = (n + 1, first)
+            failures.setdefault(failed, []).append(i)
         if (i + 1) % PROGRESS == 0:
             print(f"  {i + 1:>9,} poses, {time.perf_counter() - start:6.0f} s, "
-                  f"{sum(n for n, _ in failures.values())} failed", flush=True)
+                  f"{sum(map(len, failures.values()))} failed", flush=True)
     seconds = time.perf_counter() - start
     print(f"\n{count:,} poses in {seconds:.0f} s ({1e3 * seconds / count:.1f} ms a pose), "
           f"seed {seed}\n\nworst error / tolerance (a check fails above 1):")
@@ -76,8 +75,9 @@ def stress(seed, count):
         print("\nno failures")
         return 0
     print("\nFAILURES:")
-    for check, (n, first) in sorted(failures.items(), key=lambda kv: -kv[1][0]):
-        print(f"  {check}: {n} poses, first pose {first}")
+    for check, poses in sorted(failures.items(), key=lambda kv: -len(kv[1])):
+        more = f" and {len(poses) - 20} more" if len(poses) > 20 else ""
+        print(f"  {check}: {len(poses)} poses: {', '.join(map(str, poses[:20]))}{more}")
     return 1
 
 
