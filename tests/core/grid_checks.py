@@ -6,7 +6,7 @@ from functools import lru_cache
 import numpy as np
 
 from projgrid_addon import Camera, HeightField, build_grid, grid_topology, snapped_origin
-from projgrid_addon.camera import orthographic, perspective, view_matrix
+from projgrid_addon.camera import FRUSTUM_EDGES, orthographic, perspective, view_matrix
 from projgrid_addon.projector import heading_vector
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
@@ -308,18 +308,30 @@ FRUSTUM_FACES = [[c for c in range(8) if (c >> axis) & 1 == side] for axis in ra
 def seen_edge_on(camera, level, bound):
     """Whether the displaceable volume is seen edge-on, to within 1e-6 of the view's size.
 
-    That is a face of V_cam lying in S_upper or S_lower (a tilt turns the shared face into an edge,
-    so V_visible itself jumps, or near it changes like gap / tilt), or a flat sea (bound 0) with a
-    perspective camera on it or an orthographic one looking along it. The surface has no area on
-    screen there, so nothing can be seen to pop.
+    That is a face or an edge of V_cam lying in S_upper or S_lower (a tilt turns the shared face
+    into an edge, so V_visible itself jumps, or near it changes like gap / tilt), or a flat sea
+    (bound 0) with a perspective camera on it or an orthographic one looking along it. The
+    surface has no area on screen there, so nothing can be seen to pop.
     """
     corners = camera.corners
     z = corners[:, 2]
+    floor = 1e-12 * max(1.0, float(np.abs(z).max()))
     for face in FRUSTUM_FACES:
         size = np.ptp(corners[face], axis=0).max()
-        tol = 1e-6 * size + 1e-12 * max(1.0, float(np.abs(z).max()))
+        tol = 1e-6 * size + floor
         for plane in (level - bound, level + bound):
             if np.all(np.abs(z[face] - plane) <= tol):
+                return True
+    # An edge of V_cam lying in S_upper or S_lower (a lens shift of exactly 0.5 puts one there;
+    # so does a far frustum edge running inside a thin volume): a tilt moves the edge off the
+    # plane and V_visible jumps with it, as for a face.
+    size = np.ptp(corners, axis=0).max()
+    tol = 1e-6 * size + floor
+    for a, b in FRUSTUM_EDGES:
+        if np.linalg.norm(corners[b] - corners[a]) < 1e-3 * size:
+            continue
+        for plane in (level - bound, level + bound):
+            if abs(z[a] - plane) <= tol and abs(z[b] - plane) <= tol:
                 return True
     if bound == 0.0:
         if camera.orthographic:
