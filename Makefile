@@ -7,7 +7,8 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-unrendered test-fast test-core test-blender test-blender-4.5 lint package demo bench clean
+.PHONY: test test-unrendered test-fast test-core test-blender test-blender-4.5 lint package demo bench stress \
+	clean
 
 define make_venv
 	@py="$$(tools/find-python $(1))" && test -n "$$py" || { echo "Python $(1) not found"; exit 1; }; \
@@ -79,6 +80,11 @@ demo: $(VENV)/.demo
 # ONLY=accuracy,render: re-measure those steps, keep the rest from docs/benchmarks.json).
 bench: $(VENV)/.bench
 	$(PY) -m tools.bench $(if $(QUICK),--quick) $(if $(ONLY),--only=$(ONLY))
+
+# The stability suite's checks on 100,000 fresh poses (several minutes): the worst error-to-tolerance
+# ratio of each check and the pose that gave it (SEED=n: a given seed; POSES=n: another count).
+stress: $(VENV)/.core
+	$(PY) -m tools.stress $(if $(POSES),--poses=$(POSES)) $(if $(SEED),--seed=$(SEED))
 
 clean:
 	rm -rf $(VENV) $(VENV45) .pytest_cache .hypothesis dist out

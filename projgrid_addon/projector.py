@@ -27,11 +27,10 @@ STEEPEST = np.radians(45.0)
 STAND_BACK = 3.0
 
 # Normalised projections: only x/w and y/w matter to the grid (M_range absorbs field of view, aspect
-# and lens shift), so the depth row is chosen for conditioning. NDC z = 1 / distance (perspective)
-# or distance (orthographic); the lines of App. A run between z = 0 and z = 1.
+# and lens shift): NDC (x, y) is the point's camera-space (x, y) over its distance (perspective) or
+# as it is (orthographic), so the ray through NDC (x, y) runs along x right + y up + forward.
 _PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, -1.0, 0]])
 _ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
-_INVERSE = {id(m): np.linalg.inv(m) for m in (_PERSPECTIVE, _ORTHOGRAPHIC)}
 
 
 def _horizontal(v):
@@ -48,7 +47,6 @@ class Projector:
     forward: np.ndarray
     orthographic: bool
     span: tuple = (-1.0, 1.0, -1.0, 1.0)
-    line_depths: tuple = (0.0, 1.0)
     horizon_row: int | None = None  # the grid row (0 or -1) the span stops at the horizon
 
     @classmethod
@@ -89,7 +87,7 @@ class Projector:
                 row = 0 if stop > lo[1] else None
                 lo[1] = max(lo[1], stop)
         return Projector(self.view, self.proj, self.position, self.forward, self.orthographic,
-                         (lo[0], hi[0], lo[1], hi[1]), self.line_depths, row)
+                         (lo[0], hi[0], lo[1], hi[1]), row)
 
     @property
     def horizon_y(self):
@@ -103,47 +101,38 @@ class Projector:
             return None
         return -self.forward[2] / up_z
 
-    @property
-    def range_matrix(self):
-        """M_range: maps grid [0, 1]^2 onto the span, leaving z and w alone."""
-        x0, x1, y0, y1 = self.span
-        m = np.eye(4)
-        m[0, 0], m[0, 3], m[1, 1], m[1, 3] = x1 - x0, x0, y1 - y0, y0
-        return m
-
-    @property
-    def matrix(self):
-        """M_projector = [M_pview M_perspective]^-1 M_range (column-vector form of §2.4 step 4).
-
-        M_pview is rigid, so its inverse is [R^T | position] exactly; a general inverse would lose
-        |position| * 1e-16 of the translation, which matters for a projector just above the water
-        far from the origin.
-        """
-        inv_view = np.eye(4)
-        inv_view[:3, :3] = self.view[:3, :3].T
-        inv_view[:3, 3] = self.position
-        inv_proj = _INVERSE.get(id(self.proj))
-        if inv_proj is None:
-            inv_proj = np.linalg.inv(self.proj)
-        return inv_view @ inv_proj @ self.range_matrix
-
     def corner_points(self, level):
         """Homogeneous intersections of the four corner lines with S_base (§2.4 step 6, App. A).
 
-        Rows are the grid corners (u, v) = (0, 0), (1, 0), (0, 1), (1, 1). Every line uses the same
-        two depths, so the result is affine in (u, v) and bilinear interpolation of the corners is
-        exactly the per-vertex intersection (§3.1.1).
+        Rows are the grid corners (u, v) = (0, 0), (1, 0), (0, 1), (1, 1). A corner's line is the
+        projector's ray through its NDC (x, y) in the span (App. A's line of M_projector's images
+        of the grid point at every depth): from the eye along d = x right + y up + forward
+        (perspective), or from eye + s, s = x right + y up, along forward f (orthographic). With
+        S_base h below the eye, the line meets it at eye + d / w, w = -d_z / h, and at
+        eye + s - (h + s_z) / f_z f: both affine in (u, v), so bilinear interpolation of the
+        corners is exactly the per-vertex intersection (§3.1.1).
+
+        Taken relative to the eye, no rounding is amplified beyond the ray's own conditioning.
+        App. A's form took each line's direction as the difference of its points at two depths
+        1 m apart, whose coordinates reach the span's size: an orthographic span of 1e8 m (a 1e9 m
+        far clip) lost 0.87 of the 1e-7 of the reach that the stability suite allows the float64
+        maths, the perspective form ~1e-16 of the span's NDC over h.
         """
-        uv = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
-        z0, z1 = self.line_depths
-        grid = np.column_stack([uv, np.full(4, z0), np.ones(4)])
-        m = self.matrix
-        p0 = grid @ m.T
-        grid[:, 2] = z1
-        p1 = grid @ m.T
-        dz, dw = p1[:, 2] - p0[:, 2], p1[:, 3] - p0[:, 3]
-        t = (p0[:, 3] * level - p0[:, 2]) / (dz - dw * level)
-        return p0 + t[:, None] * (p1 - p0)
+        x0, x1, y0, y1 = self.span
+        u, v = np.array([[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]])[:, :, None]
+        x, y = x0 + u * (x1 - x0), y0 + v * (y1 - y0)  # as for a vertex at (u, v)
+        right, up, back = self.view[:3, :3]  # rows of a rotation
+        h = self.position[2] - level
+        c = np.empty((4, 4))
+        if self.orthographic:
+            s = x * right + y * up
+            c[:, :3] = s - ((h + s[:, 2]) / -back[2])[:, None] * -back
+            c[:, 3] = 1.0
+        else:
+            c[:, :3] = x * right + y * up - back
+            c[:, 3] = -c[:, 2] / h
+        c[:, :3] += c[:, 3:] * self.position
+        return c
 
 
 def heading_vector(camera):
