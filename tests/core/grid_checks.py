@@ -306,7 +306,8 @@ FRUSTUM_FACES = [[c for c in range(8) if (c >> axis) & 1 == side] for axis in ra
 
 
 def seen_edge_on(camera, level, bound):
-    """Whether the displaceable volume is seen edge-on, to within 1e-6 of the view's size.
+    """Whether the displaceable volume is seen edge-on, to within 1e-6 of the face's or the
+    edge's size.
 
     That is a face or an edge of V_cam lying in S_upper or S_lower (a tilt turns the shared face
     into an edge, so V_visible itself jumps, or near it changes like gap / tilt), or a flat sea
@@ -325,11 +326,8 @@ def seen_edge_on(camera, level, bound):
     # An edge of V_cam lying in S_upper or S_lower (a lens shift of exactly 0.5 puts one there;
     # so does a far frustum edge running inside a thin volume): a tilt moves the edge off the
     # plane and V_visible jumps with it, as for a face.
-    size = np.ptp(corners, axis=0).max()
-    tol = 1e-6 * size + floor
     for a, b in FRUSTUM_EDGES:
-        if np.linalg.norm(corners[b] - corners[a]) < 1e-3 * size:
-            continue
+        tol = 1e-6 * float(np.linalg.norm(corners[b] - corners[a])) + floor  # as a face's
         for plane in (level - bound, level + bound):
             if abs(z[a] - plane) <= tol and abs(z[b] - plane) <= tol:
                 return True
