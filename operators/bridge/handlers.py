@@ -40,7 +40,8 @@ def frame_change_post(the_scene, depsgraph=None):
     if not render:
         updates = depsgraph.updates
         if len(updates) > scene.MANY_UPDATES:  # (walking them would cost more than the frame)
-            scene.note_frame(the_scene, len(bpy.data.objects))
+            scene.note_frame(the_scene, len(bpy.data.objects),
+                             depsgraph.id_type_updated("COLLECTION"))
         else:
             scene.note_updates(the_scene, [u.id for u in updates], len(bpy.data.objects))
     frame.update_scene(the_scene, depsgraph, render, frame_change=True)

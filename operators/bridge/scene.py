@@ -125,14 +125,15 @@ def note_updates(scene, updates, object_count):
     return relevant
 
 
-def note_frame(scene, object_count):
+def note_frame(scene, object_count, collections_updated):
     """Let the cache of `scene` follow a frame change in the viewport that updated more than
     MANY_UPDATES data-blocks: every box is read again at once and the sun lamp looked for
     again (walking the update's list cost more than the frame with thousands of animated
-    objects); a change in the file's counts of objects, collections or scenes drops it."""
+    objects); an updated collection, or a change in the file's counts of objects, collections
+    or scenes, drops it."""
     cache = _file_cache(scene)
     counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
-    if cache.counts != counts:
+    if cache.counts != counts or collections_updated:
         cache.valid, cache.counts = False, counts
     cache.sun = None
     if cache.valid and cache.boxes is not None:

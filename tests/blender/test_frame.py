@@ -171,3 +171,29 @@ def test_a_moved_object_is_read_again_beside_our_own_updates(bridge):
     assert boxes.refresh([obj, cube])
     row = boxes.index[cube.session_uid]
     assert boxes.boxes[row, :, 0].min() == pytest.approx(49.0, abs=1e-4)
+
+
+def test_a_collection_relinked_beside_many_moving_objects_is_followed(bridge):
+    """A frame that moves more objects than scene.MANY_UPDATES and relinks a collection (the
+    ocean put into one an instancer shows, no count changing) finds the ocean's new
+    appearance: a stand-in per place it shows."""
+    scene = bpy.context.scene
+    add_camera(scene)
+    obj = add_ocean()
+    for i in range(bridge.scene.MANY_UPDATES + 16):
+        bpy.ops.mesh.primitive_cube_add(location=(i * 3.0 - 100.0, 60.0, -10.0))
+        cube = bpy.context.active_object
+        cube.keyframe_insert("location", frame=1)
+        cube.location.z = -5.0
+        cube.keyframe_insert("location", frame=10)
+    sea = bpy.data.collections.new("Sea")
+    instancer = bpy.data.objects.new("Instancer", None)
+    instancer.instance_type, instancer.instance_collection = "COLLECTION", sea
+    instancer.location = (0.0, 0.0, 3.0)
+    scene.collection.objects.link(instancer)
+    scene.frame_set(1)
+    assert len(bridge.scene.appearances(scene)) == 1
+    sea.objects.link(obj)
+    scene.frame_set(2)
+    assert len(bridge.scene.appearances(scene)) == 2
+    assert sum(1 for o in scene.objects if o.get(bridge.scene.STAND_IN)) == 2
