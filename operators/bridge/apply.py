@@ -32,9 +32,8 @@ def frame(read, plan, refusal=None):
     if read.refusal and not read.empty:
         return RUNTIME.state(surface).refused(read.refusal)
     state = RUNTIME.state(surface)
-    restructured = read.restructured or read.make_stand_in
     companions.follow_visibility(surface, app, read.visibility, read.render, read.view_layer,
-                                 relink=restructured)
+                                 relink=read.restructured)  # (so is a stand-in just made)
     state.generation = read.generation
     if not read.shown:
         state.key, state.message, state.warning, state.hidden = None, None, None, True
@@ -68,11 +67,12 @@ def frame(read, plan, refusal=None):
     state.resolution, state.render = res, inputs.render
     state.camera = (plan.camera.view, plan.camera.proj)
     state.warning = plan.warning
-    _write_materials(read, plan, surface, restructured)
+    in_use = effects_in_use()
+    _write_materials(read, plan, surface, in_use)
     if inputs.ahead and plan.on["foam"] and result.visible:
         ahead.calibrate(plan.source, inputs.time, inputs.settings.wind_speed)
     companions.place_companions(surface, plan.camera, float(inputs.world[2, 3]), plan.bound,
-                                plan.on, effects_in_use(), inputs.volume_reach,
+                                plan.on, in_use, inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))
     state.ms = plan.ms + (time.perf_counter() - start) * 1e3  # planned and written
     return None
@@ -83,7 +83,7 @@ def _keep(read, arrays):
         bake_record.keep(read.scene.frame_current, arrays, read.fingerprint)
 
 
-def _write_materials(read, plan, surface, restructured):
+def _write_materials(read, plan, surface, in_use):
     """Our water material's inputs and slope layer, our materials made our own, the water
     body's volume and godrays."""
     inputs, s = read.inputs, read.inputs.settings
@@ -91,7 +91,7 @@ def _write_materials(read, plan, surface, restructured):
     material = material_inputs.material_of(surface.data)
     if material is not None:
         material_inputs.update(
-            material, effects_in_use(), plan.detail, plan.detail.time_rate * per_frame,
+            material, in_use, plan.detail, plan.detail.time_rate * per_frame,
             plan.ripple, plan.ripple.time_rate * per_frame, plan.filtering, s.water_colour,
             s.foam_colour, s.wind_direction, plan.coverage,
             plan.layer[2] if plan.layer is not None else (),
@@ -99,7 +99,7 @@ def _write_materials(read, plan, surface, restructured):
         if plan.layer is not None:
             material_inputs.update_layer(material, plan.layer[0], plan.layer[1], plan.layer[3])
     if not inputs.render and not RUNTIME.rendering:
-        if restructured:
+        if read.restructured:
             companions.ensure_companions(surface)
         companions.own_material(surface)  # a material shared by hand is split at once
     body = surface.projgrid.water_body

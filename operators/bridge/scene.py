@@ -89,6 +89,16 @@ def _file_cache(scene):
     return RUNTIME.scenes.setdefault(scene.session_uid, SceneCache())
 
 
+def _counted(scene, object_count, changed=False):
+    """The cache of `scene`, dropped if `changed` or if the file's counts of objects
+    (`object_count`; -1: not read), collections or scenes changed since it was made."""
+    cache = _file_cache(scene)
+    counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
+    if changed or (cache.counts != counts and object_count >= 0):
+        cache.valid, cache.counts = False, counts
+    return cache
+
+
 def note_updates(scene, updates, object_count):
     """Let the cache of `scene` follow a depsgraph update: structural changes (objects or
     collections added, removed, relinked) drop it; moved, reshaped or hidden objects refresh
@@ -96,10 +106,7 @@ def note_updates(scene, updates, object_count):
     ocean: not when it only touched objects that stay out of view and unmirrored, say, or a
     material of the user's (`updates`: the IDs of depsgraph.updates; `object_count`:
     len(bpy.data.objects), -1 if not read)."""
-    cache = _file_cache(scene)
-    counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
-    if cache.counts != counts and object_count >= 0:
-        cache.valid, cache.counts = False, counts
+    cache = _counted(scene, object_count)
     relevant = not cache.valid
     moved = []  # geometry whose boxes are read again together
     for id_block in updates:
@@ -131,10 +138,7 @@ def note_frame(scene, object_count, collections_updated):
     again (walking the update's list cost more than the frame with thousands of animated
     objects); an updated collection, or a change in the file's counts of objects, collections
     or scenes, drops it."""
-    cache = _file_cache(scene)
-    counts = (object_count, len(bpy.data.collections), len(bpy.data.scenes))
-    if cache.counts != counts or collections_updated:
-        cache.valid, cache.counts = False, counts
+    cache = _counted(scene, object_count, collections_updated)
     cache.sun = None
     if cache.valid and cache.boxes is not None:
         cache.boxes.refresh_all()
