@@ -27,9 +27,10 @@ class Extent:
     fitted: bool = False  # fitted to the sea's spread, rather than the source's true bounds
 
     @classmethod
-    def true_bounds(cls, source):
-        """A prepared height source's own bounds (§2.2): they hold everywhere."""
-        return cls(source.bound, source.bound, source.horizontal_bound)
+    def true_bounds(cls, source, time):
+        """A height source's own bounds at `time` (§2.2): they hold everywhere."""
+        bound, side = source.bounds(time)
+        return cls(bound, bound, side)
 
     def __le__(self, other):
         return (self.lower <= other.lower and self.upper <= other.upper

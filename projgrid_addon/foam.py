@@ -61,7 +61,6 @@ def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     coverage = min(max(float(coverage), 1e-6), 1.0)
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
     a, b = (kept.get(source, (t, coverage, samples)) for t in (t0, t0 + FOAM_PERIOD))
-    source.prepare(time)  # a calibration prepares it at its own time: back to the frame's
     f = (time - t0) / FOAM_PERIOD
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 
@@ -289,6 +288,6 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)
     if len(boxes):
         x, y, h = surface
-        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bound))
+        ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))
         foam = ring if foam is None else np.maximum(foam, ring)
     return foam

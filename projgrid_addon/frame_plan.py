@@ -127,14 +127,15 @@ def plan(inputs):
     grid can be built)."""
     s, t = inputs.settings, inputs.time
     start = _time.perf_counter()
-    hf = height_source(s).prepare(t)
+    hf = height_source(s)
+    bound = hf.bounds(t)[0]
     memory.check_grid(inputs.resolution, inputs.vertices != inputs.resolution[0]
                       * inputs.resolution[1], "render" if inputs.render else "viewport",
                       large_only=True)
     cam = Camera(*inputs.camera)
     level = float(inputs.world[2, 3])
-    facts = replace(inputs.facts, bound=hf.bound,
-                    reach=min(hf.bound, effects.REACH_SIGMAS * hf.spread[0]))
+    facts = replace(inputs.facts, bound=bound,
+                    reach=min(bound, effects.REACH_SIGMAS * hf.spread[0]))
     result = build_grid(cam, hf, level=level, time=t, resolution=inputs.resolution,
                         projector_elevation=s.projector_elevation, origin=inputs.world[:3, 3])
     decisions = effects.decide({e: getattr(s, e) for e in effects.EFFECTS}, facts)
@@ -153,7 +154,7 @@ def plan(inputs):
     light = optics.body_light(np.asarray(inputs.sun_light, dtype=np.float64),
                               inputs.sky_strength, DAYLIGHT, DAYLIGHT_SUN)
     return FramePlan(
-        camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=hf.bound,
+        camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=bound,
         whitecaps=whitecaps, caustics=caustics, godrays=godrays,
         detail=hf.shader_detail(*result.shader_octaves), ripple=hf.ripple()[0],
         filtering=shading.filtering(cam.proj, inputs.render_width, hf.slopes, s.wind_speed,
@@ -161,7 +162,7 @@ def plan(inputs):
         layer=layer, absorption=optics.absorption(s.clarity), light=light,
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
         coverage=effects.whitecap_coverage(s.wind_speed) if on["foam"] else 0.0,
-        warning=flat_warning(hf, result, s), ms=(_time.perf_counter() - start) * 1e3)
+        warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3)
 
 
 def gust_drift(s, per_frame, frame, samples):
@@ -181,21 +182,22 @@ def gust_drift(s, per_frame, frame, samples):
     return tuple((float(r), float(w - r * frame)) for r, w in zip(rates, run, strict=True))
 
 
-def flat_warning(hf, result, s):
-    """Why a built sea has no wave in its geometry, and what to change (None if it has)."""
+def flat_warning(hf, bound, result, s):
+    """Why a built sea (its waves `bound` m high) has no wave in its geometry, and what to
+    change (None if it has)."""
     longest = hf.longest_wave
-    if (not result.visible or hf.bound == 0.0 or longest == 0.0
+    if (not result.visible or bound == 0.0 or longest == 0.0
             or result.lod.max() > hf.first_level):
         return None
     spacing = hf.wave_scale / 2.0 ** (float(result.lod.max()) + 1.0)
     text = (f"no wave is in the geometry: the grid's vertices lie {spacing:.3g} m apart or "
             f"more, too sparse for the band limit to keep even the longest waves "
             f"({longest:.3g} m); ")
-    if s.projector_elevation > hf.bound:
+    if s.projector_elevation > bound:
         return text + (f"Projector Elevation ({s.projector_elevation:.3g} m) lifts the "
                        "projector far above the waves: lower it")
     if s.height_source == "SPECTRUM" or s.noise_from_wind:
-        return text + (f"the waves are {hf.bound:.3g} m high, so the projector sits that high: "
+        return text + (f"the waves are {bound:.3g} m high, so the projector sits that high: "
                        "raise the grid resolution")
-    return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {hf.bound:.3g} m high, "
+    return text + (f"Amplitude ({hf.amplitude:.3g} m) makes the waves {bound:.3g} m high, "
                    "so the projector sits that high: lower Amplitude or raise Wave Scale")

@@ -61,19 +61,14 @@ class HeightField:
                                    np.sin(wind_direction)])
         self.choppiness = non_negative("choppiness", choppiness)
         self._tiles = shared_tiles(self.seed, texels) if method == "fast" else None
-        self._side = None  # (time, horizontal bound), made by prepare
+        self._side = None  # (time, horizontal bound): `bounds`'s cache of the last time read
 
-    def prepare(self, t):
-        """Ready for time t: the horizontal bound of the choppy displacement at t."""
+    def bounds(self, t):
+        """(max |f_HF|, max |choppy displacement| at time t; 0 without choppiness), m."""
         t = finite("time", t)
         if self._side is None or self._side[0] != t:
             self._side = (t, self._horizontal_bound(t))
-        return self
-
-    @property
-    def horizontal_bound(self):
-        """max |choppy displacement| at the time last prepared (0 without choppiness)."""
-        return self._side[1] if self._side is not None else 0.0
+        return self.bound, self._side[1]
 
     def _horizontal_bound(self, t):
         """Per octave lambda gain |grad n| / k: from the texture patches' gradients (exact for

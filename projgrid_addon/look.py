@@ -21,7 +21,7 @@ FOAM_GRAIN_STD = 0.0619
 FOAM_RANK = (1.522, 0.0963)
 # How soft a bubble's edge is, in the noise's ranks, per unit of the share (or of what it
 # leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
-# nought, everything at one, and the mean is the share (shading.grain_cover).
+# nought, everything at one, and the mean is the share (water_model.grain_cover).
 FOAM_EDGE = 0.5
 FOAM_STREAK = 4.0  # and this many times more across it
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share

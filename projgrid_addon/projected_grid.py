@@ -211,9 +211,9 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
                extent=None):
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
 
-    `height_field` is a height source (HeightField, SpectralField): prepared for `time`, it
-    gives its vertical `bound`, the `horizontal_bound` of its choppy displacement, their
-    standard deviations (`spread`), and `displacement(xy, time, lod, on_grid)`. With a displacement
+    `height_field` is a height source (HeightField, SpectralField): it gives its `bounds(time)`
+    (vertical, and of its choppy displacement), their standard deviations (`spread`), and
+    `displacement(xy, time, lod, on_grid)`. With a displacement
     sideways, V_visible on S_base is widened by its bound, so the displaced grid still covers the
     screen.
 
@@ -232,14 +232,14 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     time = finite("time", time)
     elevation = non_negative("projector_elevation", projector_elevation)
     nx, ny = check_resolution(resolution)
-    hf = height_field.prepare(time)
+    hf = height_field
     origin = np.zeros(3) if origin is None else np.asarray(origin, dtype=np.float64)
     if origin.shape != (3,) or not np.all(np.isfinite(origin)):
         raise ValueError(f"origin: expected a finite 3-vector, got {origin!r}")
     args = (camera, hf, level, time, (nx, ny), elevation, band_limit, origin, aim)
     if extent is not None:
         return _grid(*args, extent)
-    full = Extent.true_bounds(hf)
+    full = Extent.true_bounds(hf, time)
     for fitted in fitted_extents(hf, full):
         result = _grid(*args, fitted)
         if result.visible and border_outside(camera, result, level):

@@ -16,8 +16,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .look import FOAM_EDGE
-
 # The standard deviation of Blender's noise texture Fac (4D, Detail 2, roughness 0.5), measured
 # in an EEVEE render of 400 features: a bump of Distance d moves the surface by 0.072 d (rms).
 NOISE_FAC_STD = 0.072
@@ -64,39 +62,6 @@ class Detail:
     roughness: float
     height: float
     time_rate: float
-
-
-BOWLING = (1.5976, 0.070566)  # the normal CDF as 1 / (1 + e^-(a z + b z^3)), error ~1e-4
-
-
-def grain_cover(fac, share, spread, cdf=BOWLING):
-    """The foam the shader draws where a grain noise of Fac `fac` (standard deviation `spread`
-    about 0.5) covers a vertex's `share` of the sea: where the noise's rank, by its CDF
-    1 / (1 + e^-(a z + b z^3)) (`cdf` = (a, b); a normal one's by default), is within `share`
-    of the top, over an edge FOAM_EDGE * min(share, 1 - share) wide: its mean over the noise
-    is the share, and none is drawn at a share of nought."""
-    z = (np.asarray(fac, dtype=np.float64) - 0.5) / spread
-    rank = 1.0 / (1.0 + np.exp(-(cdf[0] * z + cdf[1] * z**3)))
-    edge = FOAM_EDGE * np.minimum(share, 1.0 - share) + 1e-4
-    return np.clip((rank - 1.0 + share) / edge + 0.5, 0.0, 1.0) * (share > 0.0)
-
-
-def foam_cover(f, distance, cos_view, share, coverage, fac, spread, cdf, grain, whitecap):
-    """The foam the shader draws at a point (its Foam mix's factor), the vertex's foam `share`
-    there and a grain noise of Fac `fac`: the grain's top ranks cover the share (`grain_cover`);
-    where the pixel's footprint along the view (`footprint_log`) outgrows a `whitecap` (m) the
-    share is the sea's mean `coverage` (per-vertex foam on a grid that moves with the camera
-    would pop). The grain is drawn while the pixel's area (its length along the view times
-    sqrt(cos), the mean of its two axes) holds few of its `grain` (m) patches, so whitecaps
-    stay specks well beyond where the pixel's length alone outgrows them (Jensen and Golias's
-    foam is where the crests break, not a veil); past that the share itself, the grain's
-    mean."""
-    footprint = footprint_log(f, distance, cos_view)
-    whole = np.clip((footprint - np.log(whitecap)) / np.log(2.0), 0.0, 1.0) * (coverage > 0.0)
-    share = share + whole * (coverage - share)
-    area = footprint + 0.5 * np.log(_view_cos(f, cos_view))
-    shown = np.clip((np.log(grain) - area) / np.log(2.0) + 1.0, 0.0, 1.0)
-    return share + shown * (grain_cover(fac, share, spread, cdf) - share)
 
 
 def sun_direction(matrix_world):
@@ -232,7 +197,7 @@ class Filtering:
     slope variance Cox and Munk measured for the wind beyond what the sea draws is added to the
     ripples where there are any (their bump grows by `ripple_gain`: near the camera the sun
     glitters on them), else it is the `floor`; `ceiling` is the whole. Of the ripples' share,
-    the glint facets' normals draw `facet_variance`, the lobe the rest."""
+    the glint facets' normals draw `water_model.facet_variance`, the lobe the rest."""
 
     pixel_log: float
     distance_power: float
@@ -296,79 +261,3 @@ def filtering(proj, width, slopes, wind_speed, gusts=1.0):
                      layer_density=(slopes.density if slopes.layer_density is None
                                     else slopes.layer_density),
                      facet_log=float(np.log(slopes.shortest / 2.0)), gust=gust_)
-
-
-def footprint_log(f, distance, cos_view=1.0):
-    """ln L_p: the shortest wave drawn at `distance` (m), the view at `cos_view` to the mean
-    sea plane (the shader's)."""
-    d = np.maximum(np.asarray(distance, dtype=np.float64), 1e-6)
-    return f.distance_power * np.log(d) - np.log(_view_cos(f, cos_view)) + f.pixel_log
-
-
-def _view_cos(f, cos_view):
-    """The view's |cos| to the mean sea plane, at least cos_floor (the footprint's stretch)."""
-    return np.maximum(np.abs(np.asarray(cos_view, dtype=np.float64)), f.cos_floor)
-
-
-def undrawn_share(top_log, bottom_log, footprint_log_):
-    """The share of a log-uniform slope spectrum between wavelengths e^bottom_log and e^top_log
-    whose waves are shorter than the footprint: not drawn (the shader cuts a layer's noise
-    octaves the same way, so nothing counts both as normals and as roughness)."""
-    return np.clip((footprint_log_ - bottom_log) / max(top_log - bottom_log, 1e-6), 0.0, 1.0)
-
-
-def gust(fac, footprint_log_, scale, amplitude, fac_std):
-    """The factor on the ripples' slope variance where the gusts' noise (`scale` features per
-    metre, its Fac's spread `fac_std`) is `fac`: max(1 + amplitude z, 0) / gust_mean, z =
-    (fac - 0.5) / fac_std the local wind's departure in standard deviations (`amplitude`:
-    Filtering.gust; a lull leaves the water flat, not negative), so its mean over the noise is
-    1; faded to 1 as the footprint (ln m) nears a patch, an octave before, as the shader's
-    noises fade (cat's paws: the ripples answer the local wind within seconds)."""
-    shown = np.clip((-np.log(scale) - np.asarray(footprint_log_, dtype=np.float64)) / np.log(2.0)
-                    - 1.0, 0.0, 1.0)
-    z = (np.asarray(fac, dtype=np.float64) - 0.5) / fac_std
-    local = np.maximum(1.0 + amplitude * z, 0.0) / gust_mean(amplitude)
-    return 1.0 + shown * (local - 1.0)
-
-
-def unresolved_slope_variance(f, distance, cos_view=1.0, lod=None, gust_=1.0):
-    """The roughness sigma^2 at `distance`, the vertices' band limit `lod` (None: every band
-    whole), where the gusts scale the ripples' slope variance by `gust_` (`gust`), as the
-    shader computes it."""
-    lp = footprint_log(f, distance, cos_view)
-    lod = np.inf if lod is None else np.asarray(lod, dtype=np.float64)  # None: every band whole
-    left = f.left_out_log - lod * np.log(2.0)
-    top = max(f.layer_top_log, f.ripple_top_log)
-    return np.minimum(f.floor + f.ripple * gust_
-                      * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
-                      + f.density * np.clip(lp - f.ripple_top_log, 0.0, top - f.ripple_top_log)
-                      + f.layer_density * np.maximum(np.maximum(lp, left) - top, 0.0),
-                      f.ceiling)
-
-
-def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0, gust_=1.0):
-    """The part of the ripples' undrawn slope variance s^2 the shader draws as the glint facets'
-    own normals (FACETS_SHARP; the rest is the lobe's roughness): all of it while the pixel's
-    footprint, L_p along the view by L_p cos across, holds at most FACETS_SHARP facets, none
-    from FACETS_MEAN, between them by ln N; and only where a facet may show the sun, its
-    share 1 - tan^2 / (SUN_REACH s^2) for the half vector of the view and the sun at tan^2
-    to the normal (elsewhere the sky's light alone, which facets would only make grainy)."""
-    lp = footprint_log(f, distance, cos_view)
-    facets = 2.0 * (lp - f.facet_log) + np.log(_view_cos(f, cos_view))  # ln N
-    weight = np.clip((f.facets_mean_log - facets) / (f.facets_mean_log - f.facets_sharp_log),
-                     0.0, 1.0)
-    undrawn = f.ripple * gust_ * undrawn_share(f.ripple_top_log, f.shortest_log, lp)
-    reach = np.clip(1.0 - np.asarray(sun_tan2, dtype=np.float64)
-                    / (f.sun_reach * undrawn + 1e-9), 0.0, 1.0)
-    return weight * reach * undrawn
-
-
-def layer_gain(band, lod, footprint_log_):
-    """How strongly the shader draws a slope-layer band (slope_layer.LayerBand) at the
-    vertices' band limit `lod` and a pixel footprint (ln m): by sqrt(1 - g^2), g the share of
-    it the vertices hold (their own tiles are independent of the layer's, so the variances
-    add), times the root of the share of its slopes (log-uniform) in waves longer than the
-    footprint."""
-    g = np.clip(np.asarray(lod, dtype=np.float64) - band.level, 0.0, 1.0)
-    shown = np.clip((band.top_log - footprint_log_) / (band.top_log - band.bottom_log), 0.0, 1.0)
-    return np.sqrt(1.0 - g * g) * np.sqrt(shown)

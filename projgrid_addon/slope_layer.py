@@ -12,7 +12,7 @@ samples, turned by its own angle, with phases of its own), independent of the ge
 of that band: where the vertices hold a band with weight g the layer draws it with
 sqrt(1 - g^2), so the slope variance stays the band's through the hand-over; and where the
 pixel outgrows the band's waves the layer keeps the share of its slopes still longer than the
-footprint, the rest being roughness (`shading.layer_gain`, `shading.Filtering`).
+footprint, the rest being roughness (`water_model.layer_gain`, `shading.Filtering`).
 """
 
 from dataclasses import dataclass

@@ -70,8 +70,9 @@ from .warp import Warp
 class SpectralField:
     """A sea from its spectrum, sampled at world points: heights and choppy displacements.
 
-    `bound` and `horizontal_bound` are true bounds of what is sampled at the time last
-    `prepare`d (bilinear samples never exceed their tile's extremes).
+    Time is an argument of every read: `bounds(t)` are true bounds of what is sampled at t
+    (bilinear samples never exceed their tile's extremes); the tiles' fields of the last time
+    read are kept as a cache keyed by that time, not as state a reader must set up.
     """
 
     def __init__(self, state, choppiness=0.0, seed=0, texels=TEXELS):
@@ -92,7 +93,7 @@ class SpectralField:
         # `displacement` then does not apply.
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
         self.warp = Warp(self.seed)
-        self._prepared = None
+        self._moment = None  # (t, per-cascade fields, bound, side, fields made): `_at`'s cache
         # The shader's stand-in noise draws the bands the geometry leaves out, the swell's
         # core with its band (where the geometry drops it, nothing else draws it).
         self._shares = shares[:BANDS]
@@ -105,10 +106,9 @@ class SpectralField:
     def twin(self):
         """The same sea for another thread (operators/bridge/ahead.py): its cascades and caches
         shared (read only but for caches of what is a pure function of the settings), its
-        prepared fields its own."""
+        cache of a time's fields its own."""
         other = copy.copy(self)
-        other._prepared = None
-        other.textures = []
+        other._moment = None
         return other
 
     @cached_property
@@ -228,32 +228,29 @@ class SpectralField:
     def wavelength(self, octave):
         return self.wave_scale / 2.0**octave
 
-    def prepare(self, t, fields=GEOMETRY):
-        """The tiles' fields at time t: made once per time, each field when first asked for
-        (without choppiness, the displacement only when the foam asks for it)."""
+    def _at(self, t, fields=GEOMETRY):
+        """The tiles' fields at time t, with their bounds: (t, per-cascade {field: texture},
+        bound, side, fields made). Made once per time, each field when first asked for (without
+        choppiness, the displacement only when the foam asks for it)."""
         t = finite("time", t)
-        if self._prepared is None or self._prepared[0] != t:
+        if self._moment is None or self._moment[0] != t:
             first = GEOMETRY if self.choppiness > 0.0 else (0,)
             made = each(lambda c: c.fields(t, self.fold, first), self.cascades)
-            self.textures = [m[0] for m in made]
-            self._bound = sum(m[1] for m in made)
-            self._side = sum(m[2] for m in made)
-            self._prepared = (t, set(first))
-        missing = set(fields) - self._prepared[1]
+            self._moment = (t, [m[0] for m in made], sum(m[1] for m in made),
+                            sum(m[2] for m in made), set(first))
+        moment = self._moment
+        missing = set(fields) - moment[4]
         if missing:
             made = each(lambda c: c.fields(t, self.fold, missing)[0], self.cascades)
-            for textures, more in zip(self.textures, made, strict=True):
+            for textures, more in zip(moment[1], made, strict=True):
                 textures.update(more)
-            self._prepared[1].update(missing)
-        return self
+            moment[4].update(missing)
+        return moment
 
-    @property
-    def bound(self):
-        return self._bound if self._prepared is not None else 0.0
-
-    @property
-    def horizontal_bound(self):
-        return self._side if self._prepared is not None else 0.0
+    def bounds(self, t):
+        """(max |height|, max |choppy displacement|) of what is sampled at time t (m)."""
+        _, _, bound, side, _ = self._at(t)
+        return bound, side
 
     def sample(self, xy, t, lod=None, fields=(0,), on_grid=False):
         """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
@@ -261,7 +258,7 @@ class SpectralField:
         (len(fields), ...) float64 array. `on_grid`: xy (2, rows, columns) are a grid's
         vertices, neighbours along both axes, so a band long against the spacing is sampled
         on every other row and column and interpolated between (band_limit.COARSE)."""
-        self.prepare(t, fields)
+        textures = self._at(t, fields)[1]
         xy = np.asarray(xy, dtype=np.float64)
         shape = xy.shape[1:]
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
@@ -282,8 +279,8 @@ class SpectralField:
             self.warp(origin, points[:2], out=points[2:])
             sums = scratch("sums", out2[:, band].shape, np.float32)  # summed in single
             sums.fill(0.0)
-            self._sum(origin, points, [None if g is None else g[band] for g in lods], fields,
-                      sums, on_grid)
+            self._sum(textures, origin, points, [None if g is None else g[band] for g in lods],
+                      fields, sums, on_grid)
             out2[:, band] = sums
         return out
 
@@ -297,8 +294,9 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, origin, points, lods, fields, out, on_grid):
-        """Add the bands' `fields` at origin + offsets into `out`, band by band (a band's
+    def _sum(self, textures, origin, points, lods, fields, out, on_grid):
+        """Add the bands' `fields` (of `textures`, per cascade) at origin + offsets into `out`,
+        band by band (a band's
         tiles share its level, so its rows and its coarse part; `lods` the band limit for
         each of self.groups), each tile read where the warp there turned by its own turn
         moves the points. `points` (4, rows, columns): the offsets, then the warp."""
@@ -321,22 +319,22 @@ class SpectralField:
                     weight = octave_weights(lod[rows], level,
                                             scratch("weights", lod[rows].shape, lod.dtype))
                 for j in tiles:
-                    self._add(j, points[:, rows], origin, fields, out[:, rows], weight)
+                    self._add(textures[j], j, points[:, rows], origin, fields, out[:, rows], weight)
             if coarse is not None:
                 few = every_other_of(points[:, coarse], scratch(
                     "few", (4,) + every_other_shape(points[0, coarse].shape), np.float32))
                 sums = scratch("coarse", (len(fields),) + few.shape[1:], np.float32)
                 sums.fill(0.0)
                 for j in tiles:
-                    self._add(j, few, origin, fields, sums, None)
+                    self._add(textures[j], j, few, origin, fields, sums, None)
                 filled = scratch("filled", out[0, coarse].shape, np.float32)
                 for i in range(len(fields)):
                     out[i, coarse] += fill_every_other(sums[i], filled)
 
-    def _add(self, j, points, origin, fields, out, weight):
-        """Add tile j's `fields` at origin + offsets (moved by its turn of the warp; `points`
-        as `_sum`'s) into `out`, times `weight` if given."""
-        cascade, textures = self.cascades[j], self.textures[j]
+    def _add(self, textures, j, points, origin, fields, out, weight):
+        """Add tile j's `fields` (of its `textures`) at origin + offsets (moved by its turn of
+        the warp; `points` as `_sum`'s) into `out`, times `weight` if given."""
+        cascade = self.cascades[j]
         where = Lookup.turned(cascade.texels, points, origin, cascade.texels / cascade.size,
                               cascade.turn, shift_turn=Warp.turn(j))
         for i, f in enumerate(fields):

@@ -1,5 +1,9 @@
 """Helpers for building shader node trees from code: `Graph` adds a node per call, links the
-inputs that are sockets and sets the ones that are values, and returns the output socket."""
+inputs that are sockets and sets the ones that are values, and returns the output socket. It is
+also the maths the look's formulas (projgrid_addon/water_model.py) are built in: its scalar
+outputs are `Value`s, on which + - * / add Math nodes."""
+
+import math
 
 TAG = "projgrid_ocean"  # ID property marking the data this extension made (never the user's)
 
@@ -31,6 +35,46 @@ def socket(sockets, key):
     return next(s for s in sockets if s.identifier == key)
 
 
+class Value:
+    """A node's scalar output in arithmetic: each operator adds a Math node."""
+
+    __slots__ = ("graph", "socket")
+
+    def __init__(self, graph, socket_):
+        self.graph, self.socket = graph, socket_
+
+    @property
+    def node(self):
+        return self.socket.node
+
+    def __add__(self, other):
+        return self.graph.math("ADD", self, other)
+
+    def __radd__(self, other):
+        return self.graph.math("ADD", other, self)
+
+    def __sub__(self, other):
+        return self.graph.math("SUBTRACT", self, other)
+
+    def __rsub__(self, other):
+        return self.graph.math("SUBTRACT", other, self)
+
+    def __mul__(self, other):
+        return self.graph.math("MULTIPLY", self, other)
+
+    def __rmul__(self, other):
+        return self.graph.math("MULTIPLY", other, self)
+
+    def __truediv__(self, other):
+        return self.graph.math("DIVIDE", self, other)
+
+    def __rtruediv__(self, other):
+        return self.graph.math("DIVIDE", other, self)
+
+    def __neg__(self):
+        return self.graph.math("MULTIPLY", self, -1.0)
+
+
 class Graph:
     def __init__(self, tree):
         self.tree = tree
@@ -50,22 +94,67 @@ class Graph:
         return node
 
     def set(self, socket, value):
+        if isinstance(value, Value):
+            value = value.socket
         if hasattr(value, "is_output"):
             self.links.new(value, socket)
         else:
             socket.default_value = value
 
+    def value(self, socket_):
+        """A scalar output socket as a Value."""
+        return Value(self, socket_)
+
     def math(self, operation, *args, clamp=False):
         node = self.node("ShaderNodeMath", enumerate(args), operation=operation, use_clamp=clamp)
-        return node.outputs[0]
+        return Value(self, node.outputs[0])
 
     def vector(self, operation, *args, **named):
         inputs = [*enumerate(args), *named.items()]
         node = self.node("ShaderNodeVectorMath", inputs, operation=operation)
-        return node.outputs["Value" if operation in ("DOT_PRODUCT", "LENGTH") else "Vector"]
+        if operation in ("DOT_PRODUCT", "LENGTH"):
+            return Value(self, node.outputs["Value"])
+        return node.outputs["Vector"]
 
     def mix(self, factor, a, b):
         """Float lerp a -> b by factor."""
         node = self.node("ShaderNodeMix", {"Factor_Float": factor, "A_Float": a, "B_Float": b},
                          data_type="FLOAT")
-        return socket(node.outputs, "Result_Float")
+        return Value(self, socket(node.outputs, "Result_Float"))
+
+    # The formulas' maths (water_model.py), as Math nodes.
+    def max(self, a, b):
+        return self.math("MAXIMUM", a, b)
+
+    def min(self, a, b):
+        return self.math("MINIMUM", a, b)
+
+    def clamp(self, x):
+        return self.math("ADD", x, 0.0, clamp=True)
+
+    def log(self, x):
+        return self.math("LOGARITHM", x, math.e)
+
+    def exp(self, x):
+        return self.math("EXPONENT", x)
+
+    def sqrt(self, x):
+        return self.math("SQRT", x)
+
+    def pow(self, a, b):
+        return self.math("POWER", a, b)
+
+    def abs(self, x):
+        return self.math("ABSOLUTE", x)
+
+    def less(self, a, b):
+        return self.math("LESS_THAN", a, b)
+
+    def greater(self, a, b):
+        return self.math("GREATER_THAN", a, b)
+
+    def cos(self, x):
+        return self.math("COSINE", x)
+
+    def sin(self, x):
+        return self.math("SINE", x)

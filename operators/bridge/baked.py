@@ -6,7 +6,7 @@ import os
 
 import bpy
 
-from ...projgrid_addon import optics
+from ...projgrid_addon import optics, water_model
 from ...shaders import materials as shader_materials
 from ...shaders import water
 from ...shaders.nodes import TAG
@@ -195,7 +195,7 @@ def play_layer_sequences(mat, files, first, last):
     by frame, up to `last`), as a bake wrote them; `files` empty: back to the images written
     each frame (the bake's sequences removed, update_layer makes new images)."""
     nodes = mat.node_tree.nodes
-    for b in range(1, water.LAYER_BANDS + 1):
+    for b in range(1, water_model.LAYER_BANDS + 1):
         taps = shader_materials.layer_tap_nodes(nodes, b)
         if taps is None:
             continue

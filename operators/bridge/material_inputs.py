@@ -8,6 +8,7 @@ import zlib
 import bpy
 import numpy as np
 
+from ...projgrid_addon import water_model
 from ...projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR, body_volume
 from ...shaders import water
 from ...shaders.materials import body_material, caustic_image, caustic_tap, layer_nodes, material
@@ -77,7 +78,7 @@ def update_layer(mat, slopes, lookups, origin):
     tree = mat.node_tree
     group = tree.nodes.get(water.GROUP)
     if (group is None or group.type != "GROUP"
-            or f"Layer Slopes {water.LAYER_BANDS}" not in group.inputs):
+            or f"Layer Slopes {water_model.LAYER_BANDS}" not in group.inputs):
         return
     layer_nodes(tree, group)
     nodes = tree.nodes
@@ -176,27 +177,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
             node.node_tree = tree = water.node_group()
         set_effects(tree, effects_on, water.EFFECT_NODES)
     inputs = node.inputs
-    values = {
-        "Detail First Octave": detail.first, "Detail Scale": detail.scale,
-        "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,
-        "Detail Height": detail.height, "Detail Top Log": -np.log(detail.scale),
-        "Ripple Scale": ripple.scale, "Ripple Octaves": ripple.octaves,
-        "Ripple Height": ripple.height * filtering.ripple_gain,
-        "Pixel Log": filtering.pixel_log, "Distance Power": filtering.distance_power,
-        "Cos Floor": filtering.cos_floor,
-        "Slope Floor": filtering.floor, "Ripple Slopes": filtering.ripple,
-        "Slope Density": filtering.density, "Shortest Log": filtering.shortest_log,
-        "Ripple Top Log": filtering.ripple_top_log, "Slope Ceiling": filtering.ceiling,
-        "Facet Log": filtering.facet_log, "Facets Sharp Log": filtering.facets_sharp_log,
-        "Facets Mean Log": filtering.facets_mean_log, "Sun Reach": filtering.sun_reach,
-        "Left Out Log": filtering.left_out_log, "Layer Top Log": filtering.layer_top_log,
-        "Layer Density": filtering.layer_density, "Gust Amplitude": filtering.gust,
-        "Gust Norm": filtering.gust_norm,
-        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
-    for b in range(1, water.LAYER_BANDS + 1):
-        names = (f"Layer Level {b}", f"Layer Top Log {b}", f"Layer Bottom Log {b}")
-        band = layer[b - 1] if b <= len(layer) else (water.DEFAULTS[n] for n in names)  # none drawn
-        values.update(zip(names, band, strict=True))
+    values = water_model.values(filtering, detail, ripple, wind_direction, foam_coverage, layer)
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

@@ -14,9 +14,8 @@ from bpy.props import (
     StringProperty,
 )
 
-from ...projgrid_addon import effects, optics, sea_states
+from ...projgrid_addon import effects, look, optics, sea_states
 from ...projgrid_addon.sea_states import WAVE_SCALE_MIN
-from ...shaders import water
 from . import frame
 from .state import RUNTIME
 
@@ -157,7 +156,7 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                   1.0, 0.0, 20.0, 4.0)
     water_colour: FloatVectorProperty(
         name="Water Colour", subtype="COLOR", size=3, min=0.0, soft_max=1.0,
-        default=water.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,
+        default=look.WATER_COLOUR, update=_settings_changed, override=OVERRIDABLE,
         description="Deep water seen from above in Add Ocean's daylight (its sky, the sun 12° "
         "up): the light it scatters back up, which follows the scene's light (and the colour "
         "the water body tends to with depth)")
@@ -166,7 +165,7 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                     "sooner", optics.CLARITY, 0.1, 1e4, 100.0, "LENGTH")
     foam_colour: FloatVectorProperty(
         name="Foam Colour", subtype="COLOR", size=3, min=0.0, max=1.0,
-        default=water.FOAM_COLOUR, update=_settings_changed, override=OVERRIDABLE,
+        default=look.FOAM_COLOUR, update=_settings_changed, override=OVERRIDABLE,
         description="The diffuse colour of the foam's bubbles")
     foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
     contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")

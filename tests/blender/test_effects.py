@@ -126,7 +126,8 @@ def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge
     gx, gy, _ = (grid.positions.astype(np.float64) + grid.origin).T
     distance = np.maximum(np.abs(gx), np.abs(gy - 40.0)) - 1.0
     reach = import_module(f"{MODULE}.projgrid_addon.foam").contact_foam_width(
-        bridge.scene.height_field(ocean.projgrid).bound)
+        bridge.scene.height_field(ocean.projgrid).bounds(
+            bridge.shot.scene_time(bpy.context.scene))[0])
     assert foam[distance <= -1e-4].min() == 1.0  # (beside the float32 rounding of positions)
     assert foam[distance > reach + 1e-4].max() == 0.0
     caustics = attribute(ocean, "projgrid_caustics")

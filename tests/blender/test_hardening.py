@@ -317,5 +317,6 @@ def test_a_flat_noise_from_wind_is_told_to_raise_the_grid(bridge, extension):
     for from_wind, advice in ((False, "lower Amplitude"), (True, "raise the grid resolution")):
         settings = SimpleNamespace(projector_elevation=0.0, height_source="PERLIN",
                                    noise_from_wind=from_wind)
-        warning = extension.projgrid_addon.frame_plan.flat_warning(hf, result, settings)
+        warning = extension.projgrid_addon.frame_plan.flat_warning(hf, hf.bound, result,
+                                                                   settings)
         assert warning.startswith("no wave is in the geometry") and advice in warning

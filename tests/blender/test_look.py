@@ -5,6 +5,7 @@ numbers (through Geometry Nodes), and the slope layer's images."""
 import bpy
 import numpy as np
 import pytest
+from look_numpy import NUMPY
 
 from .helpers import add_ocean
 
@@ -65,9 +66,8 @@ def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     sun.data.energy = 0.0
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.25
     scene.frame_set(3)
-    water = extension.shaders.water
-    want = extension.projgrid_addon.optics.body_light(0.0, 0.25, water.DAYLIGHT,
-                                                        extension.projgrid_addon.look.DAYLIGHT_SUN)
+    look = extension.projgrid_addon.look
+    want = extension.projgrid_addon.optics.body_light(0.0, 0.25, look.DAYLIGHT, look.DAYLIGHT_SUN)
     assert emitted() == pytest.approx(daylight * np.array(want), rel=1e-4)
     assert max(want) < 0.25
     scene.world = None
@@ -102,11 +102,11 @@ def test_a_water_group_of_an_older_version_is_rebuilt(sea, extension):
     assert group_input(sea, "Slope Ceiling").default_value > 0.0
 
 
-def grain_noise(water, samples=700, w=3.7):
+def grain_noise(look, samples=700, w=3.7):
     """The Fac of the foam's grain noise (as the water group sets it) over a square 600 of its
     features across, evaluated by Blender's own noise through Geometry Nodes."""
-    return blender_noise(water.FOAM_GRAIN, water.FOAM_DETAIL, water.FOAM_ROUGHNESS,
-                         600.0 / water.FOAM_GRAIN, samples, w)
+    return blender_noise(look.FOAM_GRAIN, look.FOAM_DETAIL, look.FOAM_ROUGHNESS,
+                         600.0 / look.FOAM_GRAIN, samples, w)
 
 
 def blender_noise(scale, detail, roughness, size, samples, w):
@@ -144,16 +144,14 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
     """The shader draws a vertex's foam share as the top ranks of its grain noise: over
     Blender's own noise, through a period of its time coordinate (at other times than the
     constants were fitted at), the drawn cover is the share within 10 % from 0.001 to 0.95."""
-    water = extension.shaders.water
-    shading = extension.projgrid_addon.shading
-    facs = [grain_noise(water, samples=300, w=w)  # the noise scales W as its position
-            for w in np.linspace(0.075, 1.425, 7) / water.FOAM_GRAIN]
+    look, model = extension.projgrid_addon.look, extension.projgrid_addon.water_model
+    facs = [grain_noise(look, samples=300, w=w)  # the noise scales W as its position
+            for w in np.linspace(0.075, 1.425, 7) / look.FOAM_GRAIN]
     spread = np.concatenate(facs).std()
-    assert spread == pytest.approx(water.FOAM_GRAIN_STD, rel=0.03)
-    assert shading.FOAM_EDGE == water.FOAM_EDGE  # the mirror draws the shader's edge
+    assert spread == pytest.approx(look.FOAM_GRAIN_STD, rel=0.03)
     for share in (0.001, 0.005, 0.02, 0.1, 0.5, 0.95):
-        drawn = np.mean([shading.grain_cover(f, share, water.FOAM_GRAIN_STD,
-                                             water.FOAM_RANK).mean() for f in facs])
+        drawn = np.mean([model.grain_cover(NUMPY, model.grain_rank(NUMPY, f), share).mean()
+                         for f in facs])
         assert drawn == pytest.approx(share, rel=0.10), share
 
 
@@ -191,30 +189,35 @@ def test_the_gusts_setting_scales_the_gusts(sea):
 
 
 def test_the_gusts_keep_the_sea_s_mean_slope(extension):
-    """The gusts' noise over Blender's own noise: (Fac - 0.5) / water.GUST_FAC_STD is the
+    """The gusts' noise over Blender's own noise: (Fac - 0.5) / look.GUST_FAC_STD is the
     local wind's departure in its standard deviations (its spread over four times is 1 within
     5 %), so the wind's spread is shading.gust_spread's; and at each time the ripples' factor
     at the strongest gusts' amplitude (a light wind's) has mean 1 within 2 %, so the sea's mean
     slope stays Cox and Munk's, with calm and gusty patches (a tenth of the sea beyond one
     standard deviation each way); at the cap (Gusts turned up), where lulls leave the water
     flat, within 5 %."""
-    water, core = extension.shaders.water, extension.projgrid_addon
+    core = extension.projgrid_addon
+    look, model = core.look, core.water_model
     shading, proj = core.shading, core.camera.perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
+
+    def gust(fac, amplitude):
+        i = {"Gust Amplitude": amplitude, "Gust Norm": 1.0 / shading.gust_mean(amplitude)}
+        return model.gust(NUMPY, i, fac, -10.0)
+
     amplitude = max(shading.filtering(proj, 960, core.spectral_field.SpectralField(
         core.spectrum.SeaState(wind_speed=u)).slopes, u).gust for u in (2.0, 4.0, 7.0, 15.0))
     assert 0.15 < amplitude < 0.5
     n, spreads = 700, []
     for w in (0.7, 3.7, 9.1, 17.3):
-        fac = blender_noise(water.GUST_SCALE, water.GUST_DETAIL, 0.5, 300.0 / water.GUST_SCALE,
+        fac = blender_noise(look.GUST_SCALE, look.GUST_DETAIL, 0.5, 300.0 / look.GUST_SCALE,
                             n, w).astype(np.float64)
-        spreads.append(np.std((fac - 0.5) / water.GUST_FAC_STD))
-        gust = shading.gust(fac, -10.0, water.GUST_SCALE, amplitude, water.GUST_FAC_STD)
-        assert gust.mean() == pytest.approx(1.0, abs=0.02), w
-        assert np.mean(gust < 1.0 - amplitude) > 0.1, w
-        assert np.mean(gust > 1.0 + amplitude) > 0.1, w
+        spreads.append(np.std((fac - 0.5) / look.GUST_FAC_STD))
+        factor = gust(fac, amplitude)
+        assert factor.mean() == pytest.approx(1.0, abs=0.02), w
+        assert np.mean(factor < 1.0 - amplitude) > 0.1, w
+        assert np.mean(factor > 1.0 + amplitude) > 0.1, w
         # and where the lulls leave the water flat, at the gusts' cap
-        capped = shading.gust(fac, -10.0, water.GUST_SCALE, shading.GUST_CAP,
-                              water.GUST_FAC_STD)
+        capped = gust(fac, shading.GUST_CAP)
         assert capped.mean() == pytest.approx(1.0, abs=0.05), w
     assert np.mean(spreads) == pytest.approx(1.0, rel=0.05)
 
@@ -223,16 +226,16 @@ def test_the_grain_churns_at_its_rate_whatever_its_size(sea, extension):
     """Blender's noise multiplies its time W by its Scale: the water group divides the Detail
     Time by the grain's scale, so the bubbles' pattern changes FOAM_CHURN of the noise's own
     time per unit of Detail Time (the coarser grain churned five times slower before)."""
-    water = extension.shaders.water
+    water, look = extension.shaders.water, extension.projgrid_addon.look
     tree = bpy.data.node_groups[water.GROUP]
     noise = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexNoise"
-                 and n.inputs["Scale"].default_value == pytest.approx(water.FOAM_GRAIN))
+                 and n.inputs["Scale"].default_value == pytest.approx(look.FOAM_GRAIN))
     link = noise.inputs["W"].links[0]
     rate = link.from_node
     assert rate.operation == "MULTIPLY"
     assert rate.inputs[0].links[0].from_socket.name == "Detail Time"
     per_unit = rate.inputs[1].default_value * noise.inputs["Scale"].default_value
-    assert per_unit == pytest.approx(water.FOAM_CHURN)
+    assert per_unit == pytest.approx(look.FOAM_CHURN)
 
 
 def test_the_slope_layer_is_each_ocean_s_own_and_follows_the_frame(sea, bridge, extension,

@@ -76,7 +76,7 @@ def test_choppy_and_travelling(sea, bridge):
     s.wind_direction = 0.0
     # The sea the settings make: choppy, and its heights along the wind move downwind.
     source = bridge.scene.height_field(s)
-    assert source.prepare(10.0).horizontal_bound > 0.05
+    assert source.bounds(10.0)[1] > 0.05
     x = np.linspace(0.0, 400.0, 4001)
     a = source.heights(x, np.zeros_like(x), 10.0)
     b = source.heights(x, np.zeros_like(x), 11.0)

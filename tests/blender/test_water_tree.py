@@ -1,6 +1,8 @@
-"""The water group's node tree computes what the core says it does: its roughness and its
-slope layer's gains, evaluated node by node in Python (a shader cannot be run without a
-render), against shading.unresolved_slope_variance and shading.layer_gain."""
+"""The water group's node tree, evaluated node by node in Python (a shader cannot be run
+without a render): it computes the look's model (projgrid_addon/water_model.py, from which it is
+built), and what it draws is the published formulas': Fresnel's reflectance (Eq. 1.4, with
+total internal reflection under water), Bruneton's mean Fresnel of a rough sea, Cox and Munk's
+slope variance where no wave is drawn, Monahan's whitecap share."""
 
 import itertools
 import math
@@ -8,6 +10,7 @@ import math
 import bpy
 import numpy as np
 import pytest
+from look_numpy import NUMPY
 
 from .helpers import spectral_sea
 
@@ -48,13 +51,14 @@ class Evaluator:
     """Values of a shader node tree's sockets for given group inputs and stubbed scene inputs
     (the nodes a render would feed: attribute, camera data, geometry)."""
 
-    def __init__(self, group_inputs, lod, distance, incoming, attributes=None, fac=0.5):
+    def __init__(self, group_inputs, lod, distance, incoming, attributes=None, fac=0.5,
+                 backfacing=0.0):
         self.inputs, self.cache, self.attributes = group_inputs, {}, attributes or {}
         self.stubs = {"ShaderNodeAttribute": {"Fac": lod},
                       "ShaderNodeCameraData": {"View Distance": distance},
                       "ShaderNodeNewGeometry": {"Incoming": np.asarray(incoming, float),
                                                 "Normal": np.array([0.0, 0.0, 1.0]),
-                                                "Backfacing": 0.0},
+                                                "Backfacing": backfacing},
                       # the waves' bumps: a flat sea's normal (the glint's sun reach uses it)
                       "ShaderNodeBump": {"Normal": np.array([0.0, 0.0, 1.0])},
                       # the glint facet's cell: its two random values
@@ -109,136 +113,191 @@ class Evaluator:
 
 @pytest.fixture
 def water(extension):
-    """The spectral sea's water group, the material's group node, and the core's modules."""
+    """The spectral sea's water group node in its material, and the core's modules."""
     obj = spectral_sea()
-    core = extension.projgrid_addon
     material = extension.operators.bridge.material_inputs.material_of(obj.data)
-    node = material.node_tree.nodes[extension.shaders.water.GROUP]
-    return node, core
+    return material.node_tree.nodes[extension.shaders.water.GROUP], extension.projgrid_addon
 
 
-def _settings(node, core):
-    values = {s.name: (np.array(s.default_value[:3], float)
-                       if hasattr(s.default_value, "__len__") else float(s.default_value))
-              for s in node.inputs if hasattr(s, "default_value")}
-    f = core.shading.Filtering(
-        pixel_log=values["Pixel Log"], distance_power=values["Distance Power"],
-        floor=values["Slope Floor"], ripple=values["Ripple Slopes"],
-        cos_floor=values["Cos Floor"], ripple_gain=1.0, density=values["Slope Density"],
-        shortest_log=values["Shortest Log"], ripple_top_log=values["Ripple Top Log"],
-        ceiling=values["Slope Ceiling"], layer_top_log=values["Layer Top Log"],
-        layer_density=values["Layer Density"], left_out_log=values["Left Out Log"],
-        facet_log=values["Facet Log"], facets_sharp_log=values["Facets Sharp Log"],
-        facets_mean_log=values["Facets Mean Log"], sun_reach=values["Sun Reach"],
-        gust=values["Gust Amplitude"])
-    bands = [core.slope_layer.LayerBand(values[f"Layer Level {b}"], values[f"Layer Top Log {b}"],
-                                        values[f"Layer Bottom Log {b}"]) for b in (1, 2, 3)]
-    return values, f, bands
+def group_values(node):
+    """The group node's input values, as the frame wrote them."""
+    return {s.name: (np.array(s.default_value[:3], float)
+                     if hasattr(s.default_value, "__len__") else float(s.default_value))
+            for s in node.inputs if hasattr(s, "default_value")}
 
 
-CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0) for c in (0.05, 0.4, 1.0)
+def incoming(cos_view):
+    """Toward the camera, at `cos_view` to a flat sea's normal."""
+    return np.array([math.sqrt(1.0 - cos_view * cos_view), 0.0, cos_view])
+
+
+GLOSSY = ("ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic")  # Blender 4.x names it so
+
+
+def find(tree, kinds, **linked):
+    """The node of one of `kinds` whose named inputs are linked (True) or not (False)."""
+    return next(n for n in tree.nodes if n.bl_idname in kinds
+                and all(n.inputs[k].is_linked == v for k, v in linked.items()))
+
+
+CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0, 4e4) for c in (0.05, 0.4, 1.0)
          for lod in (-6.0, -1.5, 0.7, 3.0)]
 
 
-def test_the_roughness_is_the_core_s(water, extension):
-    """The lobe's roughness is the slope variance not drawn, less what the glint's facets
-    draw of it (shading.facet_variance), which near the camera is not nothing; the gusts
-    scale the ripples' share by the core's factor (shading.gust) wherever their noise is, and
-    the ripples' bump height by its root."""
+def test_the_tree_computes_the_model(water):
+    """At a flat sea's point, for distances, view angles, band limits, sun directions (or no
+    sun lamp), gust and grain noise values and vertex foam: the lobe's roughness and the glint
+    facets' tilt, the ripples' bump height, each slope-layer band's gain, the foam drawn and the
+    Fresnel output are the model's formulas evaluated in NumPy (the tree is built from them: a
+    wrong link or operator in the build shows here)."""
     node, core = water
-    shaders = extension.shaders.water
-    values, f, _ = _settings(node, core)
-    assert f.layer_density > 0.0 and f.density > 0.0  # the spectral sea's: not a trivial case
-    tree = node.node_tree
-    glossy = next(n for n in tree.nodes if n.bl_idname in (
-        "ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic") and n.inputs["Roughness"].is_linked)
-    # the ripples' bump (the one bumping the detail's normal): its height by sqrt(gust)
-    ripples = next(n for n in tree.nodes
-                   if n.bl_idname == "ShaderNodeBump" and n.inputs["Normal"].is_linked)
-    seen, facets, gusts, bumped = set(), set(), set(), set()
-    for (d, c, lod), sun, fac in zip(CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
-                                     itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
-                                     strict=False):
-        # the sun where the view's mirror is (a facet as flat as the sea shows it), `sun`
-        # radians above it (the half vector sun / 2 from the normal), or no sun lamp
-        s = math.sqrt(1.0 - c * c)
-        toward = (0.0, 0.0, 0.0) if sun is None else (
-            c * math.sin(sun) - s * math.cos(sun), 0.0, c * math.cos(sun) + s * math.sin(sun))
-        ev = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c),
-                       fac=fac)
-        drawn = ev.input(glossy.inputs["Roughness"]) ** 4
-        gust = float(core.shading.gust(fac, core.shading.footprint_log(f, d, c),
-                                       shaders.GUST_SCALE, f.gust, shaders.GUST_FAC_STD))
-        facet = (0.0 if sun is None else float(core.shading.facet_variance(
-            f, d, c, math.tan(sun / 2.0) ** 2, gust)))
-        want = float(core.shading.unresolved_slope_variance(f, d, c, lod, gust)) - facet
-        assert drawn == pytest.approx(want, rel=1e-5, abs=1e-9), (d, c, lod, sun)
-        # the glossy's normal: the flat sea's tilted by the facet's slopes (Box-Muller from
-        # its cell's two random values, facet / 2 per axis)
-        u, w = FACET_RANDOM
-        slope = math.sqrt(-2.0 * math.log(u) * facet / 2.0)
-        tilt = np.array([slope * math.cos(2 * math.pi * w), slope * math.sin(2 * math.pi * w),
-                         1.0])
-        assert ev.input(glossy.inputs["Normal"]) == pytest.approx(
-            tilt / np.linalg.norm(tilt), abs=1e-6), (d, c, lod, sun)
-        seen.add(round(want, 6))
-        facets.add(round(facet, 6))
-        gusts.add(round(gust, 3))
-        steady = Evaluator({**values, "Sun Direction": np.array(toward)}, lod, d, (s, 0.0, c))
-        height = steady.input(ripples.inputs["Distance"])
-        if height > 0.0:
-            assert ev.input(ripples.inputs["Distance"]) == pytest.approx(
-                height * math.sqrt(gust), rel=1e-5), (d, c, lod, fac)
-            bumped.add(round(gust, 3))
-    assert len(seen) > 10  # the cases reach different parts of the formula
-    assert len(facets) > 2 and max(facets) > 0.1 * f.ripple  # and the facets' share
-    # and calm and gusty patches, beyond a standard deviation of the wind each way
-    assert f.gust > 0.1 and min(gusts) < 1.0 - f.gust and max(gusts) > 1.0 + f.gust
-    assert min(bumped) < 0.95 and max(bumped) > 1.05  # bumps of calm and gusty patches
-
-
-def test_the_slope_layer_s_gains_are_the_core_s(water):
-    node, core = water
-    values, f, bands = _settings(node, core)
-    tree = node.node_tree
+    model, tree = core.water_model, node.node_tree
+    values = group_values(node)
+    assert values["Layer Density"] > 0.0 and values["Slope Density"] > 0.0  # not trivial
+    assert values["Gust Amplitude"] > 0.1
+    values["Foam Coverage"] = 0.03
+    glossy = find(tree, GLOSSY, Roughness=True)
+    ripples_bump = find(tree, ("ShaderNodeBump",), Normal=True)
     tilt = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeVectorMath"
                 and n.operation == "MULTIPLY" and n.inputs[1].is_linked
                 and n.inputs[1].links[0].from_node.bl_idname == "ShaderNodeCombineXYZ")
-    seen = set()
-    for b, band in enumerate(bands, start=1):
-        for d, c, lod in CASES:
-            one = {**values, **{f"Layer Slopes {k}": np.array([float(k == b), 0.0, 0.0])
-                                for k in (1, 2, 3)}}
-            ev = Evaluator(one, lod, d, (math.sqrt(1.0 - c * c), 0.0, c))
-            drawn = -ev.output(tilt.outputs[0])[0]  # tilted against the slope, up = 1
-            want = float(core.shading.layer_gain(band, lod, core.shading.footprint_log(f, d, c)))
-            assert drawn == pytest.approx(want, rel=1e-5, abs=1e-7), (b, d, c, lod)
-            seen.add(round(want, 4))
-    assert len(seen) > 8 and 0.0 in seen and max(seen) > 0.5
+    foam, fresnel = tree.nodes["Foam"].inputs[0], find(tree, ("NodeGroupOutput",)).inputs["Fresnel"]
+    seen = {"roughness": set(), "facets": set(), "gust": set(), "gain": set(), "foam": set()}
+    for (d, c, lod), sun, fac, share, band in zip(
+            CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
+            itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
+            itertools.cycle((0.0, 0.01, 0.6)), itertools.cycle((1, 2, 3, 2, 1)), strict=False):
+        # the sun where the view's mirror is, `sun` radians above it, or no sun lamp
+        s = math.sqrt(1.0 - c * c)
+        toward = np.zeros(3) if sun is None else np.array(
+            [c * math.sin(sun) - s * math.cos(sun), 0.0, c * math.cos(sun) + s * math.sin(sun)])
+        one = {**values, "Sun Direction": toward,
+               **{f"Layer Slopes {k}": np.array([float(k == band), 0.0, 0.0]) for k in (1, 2, 3)}}
+        flat = {**one, **{f"Layer Slopes {k}": np.zeros(3) for k in (1, 2, 3)}}
+        attributes = {"projgrid_foam": share}
+        ev = Evaluator(flat, lod, d, incoming(c), attributes=attributes, fac=fac)
+        tilted = Evaluator(one, lod, d, incoming(c), attributes=attributes, fac=fac)
+
+        lp, log_cos = model.footprint(NUMPY, flat, d, c)
+        gust = model.gust(NUMPY, flat, fac, lp)
+        ripples = model.ripples_undrawn(NUMPY, flat, gust, lp)
+        slopes = model.roughness(NUMPY, flat, lod, lp, ripples)
+        half = incoming(c) + toward
+        cos_half = max(half[2] / np.linalg.norm(half), 0.01)
+        facets = model.facet_variance(NUMPY, flat, lp, log_cos, 1.0, cos_half,
+                                      min(np.linalg.norm(toward), 1.0), ripples)
+        want = max(slopes - facets, 0.0) ** 0.25
+        assert ev.input(glossy.inputs["Roughness"]) == pytest.approx(want, rel=1e-5, abs=1e-9)
+        u, w = FACET_RANDOM  # Box-Muller from the facet's cell's two random values
+        slope = math.sqrt(-2.0 * math.log(u) * facets / 2.0)
+        normal = np.array([slope * math.cos(2 * math.pi * w), slope * math.sin(2 * math.pi * w),
+                           1.0])
+        assert ev.input(glossy.inputs["Normal"]) == pytest.approx(
+            normal / np.linalg.norm(normal), abs=1e-6)
+        _, kept, _ = model.octaves_drawn(NUMPY, flat["Ripple Top Log"], lp,
+                                         flat["Ripple Octaves"], 0.5)
+        assert ev.input(ripples_bump.inputs["Distance"]) == pytest.approx(
+            flat["Ripple Height"] * math.sqrt(gust) * kept, rel=1e-5, abs=1e-12)
+        gain = model.layer_gain(NUMPY, lod, one[f"Layer Level {band}"],
+                                one[f"Layer Top Log {band}"], one[f"Layer Bottom Log {band}"], lp)
+        assert -tilted.output(tilt.outputs[0])[0] == pytest.approx(gain, rel=1e-5, abs=1e-7)
+        drawn = model.foam_cover(NUMPY, flat, share, fac, lp, log_cos)
+        assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
+        exact = model.fresnel(NUMPY, flat["IOR"], c, 0.0)
+        assert ev.input(fresnel) == pytest.approx(
+            model.mean_fresnel(NUMPY, exact, c, slopes, 0.0), rel=1e-5)
+        for key, v in zip(seen, (slopes, facets, gust, gain, drawn), strict=True):
+            seen[key].add(round(float(v), 4))
+    # the cases reach every part of the formulas: far and near, facets and none, calm and
+    # gusty patches beyond a standard deviation of the wind each way, bands held and not,
+    # foam whole, none and the sea's mean share
+    assert len(seen["roughness"]) > 10 and len(seen["facets"]) > 2
+    assert min(seen["gust"]) < 1.0 - values["Gust Amplitude"] < 1.0 + values["Gust Amplitude"] \
+        < max(seen["gust"])
+    assert {0.0} < seen["gain"] and max(seen["gain"]) > 0.5
+    assert {0.0, 1.0, 0.03} <= seen["foam"], sorted(seen["foam"])
 
 
-def test_the_foam_is_the_core_s(water, extension):
-    """The foam drawn (the Foam mix's factor) is shading.foam_cover's: the grain's top ranks
-    covering the vertex's share near, the sea's mean share where a pixel is longer than a
-    whitecap, and far whitecaps still drawn by the grain while the pixel's area is small."""
+def fresnel_eq_1_4(n1, n2, cos_i):
+    """Unpolarised reflectance from a medium of index n1 into n2 (Fresnel; the seed's Eq. 1.4):
+    1 beyond the critical angle."""
+    sin_t = n1 / n2 * math.sqrt(1.0 - cos_i * cos_i)
+    if sin_t >= 1.0:
+        return 1.0
+    cos_t = math.sqrt(1.0 - sin_t * sin_t)
+    rs = ((n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t)) ** 2
+    rp = ((n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i)) ** 2
+    return 0.5 * (rs + rp)
+
+
+def test_the_reflectance_is_fresnel_s_and_bruneton_s(water):
+    """On a mirror-flat sea the group's Fresnel is the exact reflectance of water (IOR 1.333)
+    from above and from under water, where beyond the critical angle (48.6 deg) all is
+    reflected; on a rough sea (slope variance s^2) from above, less at grazing by Bruneton's
+    fit of the mean Fresnel (2010, Eq. 11) against a mirror's: 0.98 ((1 - cos)^(5 e^(-2.69 s))
+    / (1 + 22.7 s^1.5) - (1 - cos)^5), s^2 per axis half the variance."""
+    node, _ = water
+    values = group_values(node)
+    out = find(node.node_tree, ("NodeGroupOutput",)).inputs["Fresnel"]
+    ior = values["IOR"]
+    assert ior == pytest.approx(1.333)
+    flat = {**values, "Slope Ceiling": 0.0}
+    for degrees in (0.0, 20.0, 40.0, 48.0, 49.0, 60.0, 75.0, 85.0, 89.0):
+        c = math.cos(math.radians(degrees))
+        above = Evaluator(flat, 0.0, 50.0, incoming(c)).input(out)
+        below = Evaluator(flat, 0.0, 50.0, incoming(c), backfacing=1.0).input(out)
+        assert above == pytest.approx(fresnel_eq_1_4(1.0, ior, c), rel=1e-4, abs=1e-6)
+        assert below == pytest.approx(fresnel_eq_1_4(ior, 1.0, c), rel=1e-4, abs=1e-6)
+        assert (below == pytest.approx(1.0)) == (degrees > math.degrees(math.asin(1.0 / ior)))
+    for variance in (0.01, 0.05):  # the whole sea's roughness, where nothing is drawn
+        rough = {**values, "Slope Floor": variance, "Slope Ceiling": variance}
+        for degrees in (30.0, 70.0, 85.0):
+            c = math.cos(math.radians(degrees))
+            s = math.sqrt(variance / 2.0)
+            fit = 0.98 * ((1 - c) ** (5 * math.exp(-2.69 * s)) / (1 + 22.7 * s**1.5) - (1 - c)**5)
+            drawn = Evaluator(rough, 0.0, 1e5, incoming(c)).input(out)
+            assert drawn == pytest.approx(fresnel_eq_1_4(1.0, ior, c) + fit, rel=1e-4)
+
+
+def test_the_far_sea_s_roughness_is_cox_munk_s(water, extension):
+    """Where a pixel is longer than every wave (far, grazing, the vertices holding no band) the
+    lobe's slope variance (Roughness^4) is Cox and Munk's for the wind, 0.003 + 5.12e-3 U with
+    U at 12.5 m (the log profile, roughness length 2e-4 m, from the wind at 10 m); near the
+    camera, where the waves are drawn, a small part of it."""
+    node, _ = water
+    values = {**group_values(node), "Sun Direction": np.zeros(3)}
+    u = bpy.context.active_object.projgrid.wind_speed
+    assert u > 8.0  # force 5
+    cox_munk = 0.003 + 5.12e-3 * u * math.log(12.5 / 2e-4) / math.log(10.0 / 2e-4)
+    glossy = find(node.node_tree, GLOSSY, Roughness=True)
+    for c in (0.05, 0.2):
+        far = Evaluator(values, -10.0, 1e6, incoming(c)).input(glossy.inputs["Roughness"])
+        assert far**4 == pytest.approx(cox_munk, rel=1e-4)
+    near = Evaluator(values, 8.0, 2.0, incoming(1.0)).input(glossy.inputs["Roughness"])
+    assert near**4 < 0.1 * cox_munk
+
+
+def test_the_foam_drawn_is_monahan_s_share(water, extension):
+    """The share of the sea the frame asks whitecaps to cover is Monahan and O'Muircheartaigh's
+    1.59e-5 U^2.55 (Fleck Eq. 32); a pixel longer than a whitecap draws that share, and near the
+    camera the grain's top ranks draw a vertex's share (over its ranks, evenly: the mean)."""
     node, core = water
-    shaders = extension.shaders.water
-    values, f, _ = _settings(node, core)
-    values["Foam Coverage"] = coverage = 0.03
+    values = group_values(node)
+    u = bpy.context.active_object.projgrid.wind_speed
+    assert values["Foam Coverage"] == pytest.approx(1.59e-5 * u**2.55, rel=1e-5)
     mix = node.node_tree.nodes["Foam"].inputs[0]
-    grain = 1.0 / (shaders.FOAM_GRAIN * math.sqrt(shaders.FOAM_STREAK))
-    seen = set()
-    for d, c, share, fac in itertools.product((3.0, 40.0, 400.0, 4000.0, 40000.0),
-                                              (0.05, 0.4, 1.0), (0.0, 0.01, 0.6),
-                                              (0.3, 0.5, 0.62)):
-        ev = Evaluator(values, 0.0, d, (math.sqrt(1.0 - c * c), 0.0, c),
-                       attributes={shaders.FOAM_ATTRIBUTE: share}, fac=fac)
-        want = float(core.shading.foam_cover(
-            f, d, c, share, coverage, fac, shaders.FOAM_GRAIN_STD, shaders.FOAM_RANK, grain,
-            shaders.WHITECAP))
-        assert ev.input(mix) == pytest.approx(want, rel=1e-5, abs=1e-6), (d, c, share, fac)
-        seen.add(round(want, 3))
-    assert {0.0, 1.0, coverage} <= seen and len(seen) > 5
+    for share in (0.0, 0.3):
+        far = Evaluator(values, 0.0, 2e5, incoming(0.05), attributes={"projgrid_foam": share})
+        assert far.input(mix) == pytest.approx(values["Foam Coverage"], rel=1e-5)
+    look = core.look
+    z = np.linspace(-12.0, 12.0, 20001)
+    cdf = core.water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
+    facs = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(400) + 0.5) / 400, cdf, z)
+    for share in (0.02, 0.3):
+        drawn = [Evaluator(values, 0.0, 3.0, incoming(1.0), attributes={"projgrid_foam": share},
+                           fac=float(fac)).input(mix) for fac in facs]
+        assert np.mean(drawn) == pytest.approx(share, rel=0.02), share
+        assert max(drawn) == 1.0 and min(drawn) == 0.0  # a solid core, bare water around
 
 
 def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
@@ -269,8 +328,8 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     irradiance += sun * np.array(sun_lamp.data.color)
     assert np.asarray(water_module.DAYLIGHT) == pytest.approx(irradiance, rel=0.01)
 
-    node, core = water
-    values, _, _ = _settings(node, core)
+    node, _ = water
+    values = group_values(node)
     diffuse = next(n for n in node.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
                    and n.inputs["Color"].is_linked
                    and n.inputs["Color"].links[0].from_node.bl_idname == "ShaderNodeVectorMath")

@@ -117,7 +117,7 @@ poses = st.binary(min_size=4 * SLOTS, max_size=4 * SLOTS).map(pose_from_bytes)
 def nudged(pose, eps):
     """The same pose moved by a relative `eps`: position by eps times the distance to the volume's
     far side (the scale the projector sees), angles by eps."""
-    bound = pose.height_field().bound
+    bound = pose.height_field().bounds(pose.time)[0]
     step = eps * max(abs(pose.height), bound + pose.elevation)
     deg = np.degrees(eps)
     return Pose(**{**pose.__dict__, "height": pose.height + step, "pitch": pose.pitch + deg,
@@ -147,7 +147,8 @@ def check_no_popping(pose, result):
     camera = pose.camera()
     # No continuous projector heading exists for every orientation (projector.heading); its
     # singular poses are left out of this one property, as are views that see the surface edge-on.
-    if heading_margin(camera) < 0.05 or seen_edge_on(camera, pose.level, pose.height_field().bound):
+    bound = pose.height_field().bounds(pose.time)[0]
+    if heading_margin(camera) < 0.05 or seen_edge_on(camera, pose.level, bound):
         return
     _, moved = nudged(pose, EPS).build(extent=result.extent)
     if not moved.visible:
@@ -161,7 +162,7 @@ def check_no_popping(pose, result):
 
 def check_pose(pose, popping=True, **build):
     camera, result = pose.build(**build)
-    bound = pose.height_field().bound
+    bound = pose.height_field().bounds(pose.time)[0]
     check_result(camera, result, pose.level, bound)
     check_coverage(camera, result, pose.level, bound)
     if popping:

@@ -5,6 +5,7 @@ import threading
 
 import numpy as np
 import pytest
+from look_numpy import NUMPY, footprint_log, group_inputs
 
 from projgrid_addon import (
     HeightField,
@@ -13,8 +14,10 @@ from projgrid_addon import (
     foam,
     sea_states,
     shading,
+    water_model,
 )
 from projgrid_addon.camera import look_at, perspective
+from projgrid_addon.look import FOAM_GRAIN, FOAM_GRAIN_STD, FOAM_STREAK, WHITECAP
 from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
@@ -165,31 +168,40 @@ def test_calibrations_are_kept_per_source_and_window_and_made_once():
     assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
 
 
+def grain_facs(n, seed):
+    """Fac samples of a grain noise whose CDF is the water group's (look.FOAM_RANK, spread
+    look.FOAM_GRAIN_STD): inverse transform sampling."""
+    z = np.linspace(-12.0, 12.0, 200_001)
+    cdf = water_model.grain_rank(NUMPY, 0.5 + z * FOAM_GRAIN_STD)
+    return 0.5 + FOAM_GRAIN_STD * np.interp(np.random.default_rng(seed).uniform(size=n), cdf, z)
+
+
 @pytest.mark.parametrize("share", [0.002, 0.01, 0.05, 0.3, 0.7, 0.95, 1.0])
 def test_the_grain_covers_a_vertex_s_share(share):
-    """The shader's whitecaps (shading.grain_cover, as the node tree computes it) cover a
-    vertex's share of a grain noise whose Fac is normal about 0.5: their mean is the share,
-    and nothing is drawn where the share is nought."""
-    spread = 0.057
-    fac = 0.5 + spread * np.random.default_rng(5).standard_normal(2_000_000)
-    assert shading.grain_cover(fac, share, spread).mean() == pytest.approx(share, rel=0.05)
-    assert shading.grain_cover(fac, 0.0, spread).max() == 0.0
+    """The shader's whitecaps (water_model.grain_cover, the node tree's formula) cover a
+    vertex's share of a grain noise of the fitted CDF: their mean is the share, and nothing is
+    drawn where the share is nought."""
+    rank = water_model.grain_rank(NUMPY, grain_facs(2_000_000, 5))
+    assert water_model.grain_cover(NUMPY, rank, share).mean() == pytest.approx(share, rel=0.05)
+    assert water_model.grain_cover(NUMPY, rank, 0.0).max() == 0.0
 
 
 def test_far_whitecaps_stay_specks():
     """From 4 m up, 150 m away a pixel is longer than the grain's patches (1.7 m: the water
     group's) along the view but its area holds few: the foam drawn there is specks of whole
-    foam covering the share (shading.foam_cover), not the share spread as a veil; at the
+    foam covering the share (water_model.foam_cover), not the share spread as a veil; at the
     horizon, where a pixel is longer than a whitecap (8 m), the sea's mean share."""
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=15.0)).slopes, 15.0)
-    spread, grain, whitecap, coverage = 0.0619, 1.0 / (0.3 * 2.0), 8.0, 0.02
-    fac = 0.5 + spread * np.random.default_rng(3).standard_normal(400_000)
+    grain, coverage = 1.0 / (FOAM_GRAIN * np.sqrt(FOAM_STREAK)), 0.02
+    assert grain == pytest.approx(1.0 / 0.6) and WHITECAP == 8.0
+    fac = grain_facs(400_000, 3)
+    i = group_inputs(f, **{"Foam Coverage": coverage})
 
     def drawn(d, share):
-        return shading.foam_cover(f, d, 4.0 / d, share, coverage, fac, spread,
-                                  shading.BOWLING, grain, whitecap)
-    assert np.exp(shading.footprint_log(f, 150.0, 4.0 / 150.0)) > grain
+        lp, log_cos = water_model.footprint(NUMPY, i, d, 4.0 / d)
+        return water_model.foam_cover(NUMPY, i, share, fac, lp, log_cos)
+    assert np.exp(footprint_log(f, 150.0, 4.0 / 150.0)) > grain
     near = drawn(150.0, 0.05)
     assert near.mean() == pytest.approx(0.05, rel=0.05)
     assert (near > 0.9).mean() > 0.5 * 0.05 and near.max() == 1.0
@@ -210,7 +222,7 @@ def test_a_frame_s_foam_and_bounds_do_not_hang_on_earlier_frames():
 
     def frame(source, t):
         result = build_grid(cam, source, time=t, resolution=(33, 65))
-        return foam.foam_field(source, result, t, 14.0, True, boxes, 0.0), source.bound
+        return foam.foam_field(source, result, t, 14.0, True, boxes, 0.0), source.bounds(t)[0]
 
     cover, bound = frame(SpectralField(state, choppiness=1.0, seed=3), 12.5)
     source = SpectralField(state, choppiness=1.0, seed=3)

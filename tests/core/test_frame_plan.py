@@ -6,9 +6,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from projgrid_addon import effects, frame_plan, shading
+from projgrid_addon import HeightField, effects, frame_plan, shading
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
 
 SEA = dict(resolution_x=65, resolution_y=129, render_resolution_x=65, render_resolution_y=129,
            noise_from_wind=True, amplitude=0.5, wave_scale=40.0, octaves=8, roughness=0.5,
@@ -82,3 +84,34 @@ def test_auto_decides_by_the_reach_of_the_sea_in_a_shot():
         on, reason = plan.decisions["contact_foam"]
         assert on == crossing and "5 σ" in reason
         assert plan.bound > 2.0  # the bound alone would have counted the rock as crossing
+
+
+SOURCES = {"SPECTRUM": lambda: SpectralField(SeaState(wind_speed=12.0), choppiness=1.0, seed=2),
+           "PERLIN": lambda: HeightField(amplitude=1.0, choppiness=0.6, seed=2)}
+
+
+@pytest.mark.parametrize("source", SOURCES)
+def test_time_is_an_argument_of_every_read(source):
+    """A height source answers for the time it is asked (no state to set up first): its bounds
+    and fields at a time are the same, bit for bit, whatever times were read before, and a
+    plan of frame 48 is the same after plans of other frames (a farm renders frames alone and
+    out of order)."""
+    xy = np.stack(np.meshgrid(np.linspace(-50.0, 50.0, 9), np.linspace(0.0, 400.0, 17)))
+
+    def read(hf, t):
+        h, side = hf.displacement(xy, t)
+        return hf.bounds(t), h, side
+
+    want = read(SOURCES[source](), 7.0)
+    hf = SOURCES[source]()
+    for t in (3.0, 7.0, 11.5, 3.0):
+        read(hf, t)
+        got = read(hf, 7.0)
+        assert got[0] == want[0] and got[0][1] > 0.0
+        assert np.array_equal(got[1], want[1]) and np.array_equal(got[2], want[2])
+    assert not hasattr(hf, "prepare")
+    first = frame_plan.plan(inputs(height_source=source, frame=48.0))
+    frame_plan.plan(inputs(height_source=source, frame=12.0))
+    again = frame_plan.plan(inputs(height_source=source, frame=48.0))
+    assert again.bound == first.bound
+    assert np.array_equal(again.result.positions, first.result.positions)

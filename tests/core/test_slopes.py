@@ -3,6 +3,7 @@ filtering's roughness, the gusts, the slope layer and the glint's facets."""
 
 import numpy as np
 import pytest
+from look_numpy import NUMPY, footprint_log, group_inputs
 
 from projgrid_addon import (
     HeightField,
@@ -10,9 +11,11 @@ from projgrid_addon import (
     shading,
     slope_layer,
     spectrum,
+    water_model,
 )
 from projgrid_addon.camera import orthographic, perspective
 from projgrid_addon.cascade import BANDS, LAYER_FIRST, band_level, band_shares, bands
+from projgrid_addon.look import GUST_FAC_STD, GUST_SCALE
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import GRAVITY, SeaState
 
@@ -85,8 +88,36 @@ def test_a_pixel_s_footprint():
     ortho = orthographic(50.0, 1.0, 0.1, 100.0)
     assert shading.pixel_footprint(ortho, 1000) == pytest.approx((np.log(50.0 / 1000), 0.0))
     f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=7.0)).slopes, 7.0)
-    at = [float(np.exp(shading.footprint_log(f, 100.0, c))) for c in (1.0, 0.5, 0.2, 0.05)]
+    at = [float(np.exp(footprint_log(f, 100.0, c))) for c in (1.0, 0.5, 0.2, 0.05)]
     assert at == pytest.approx([100.0 * pixel, 200.0 * pixel, 500.0 * pixel, 900.0 * pixel])
+
+
+def roughness(f, distance, cos_view=1.0, lod=np.inf):
+    """The roughness the water group draws (water_model.roughness), the gusts' factor 1."""
+    i = group_inputs(f)
+    lp = footprint_log(f, distance, cos_view)
+    return water_model.roughness(NUMPY, i, lod, lp, water_model.ripples_undrawn(NUMPY, i, 1.0, lp))
+
+
+def gust(fac, footprint, amplitude):
+    """The gusts' factor (water_model.gust) at their noise's `fac`."""
+    i = {"Gust Amplitude": amplitude, "Gust Norm": 1.0 / shading.gust_mean(amplitude)}
+    return water_model.gust(NUMPY, i, np.asarray(fac, dtype=np.float64), footprint)
+
+
+def facet_variance(f, distance, cos_view=1.0, sun_tan2=0.0):
+    """The glint facets' slope variance (water_model.facet_variance) on a front face, the sun's
+    half vector at tan^2 `sun_tan2` to the normal."""
+    i = group_inputs(f)
+    lp, log_cos = water_model.footprint(NUMPY, i, np.asarray(distance, float), cos_view)
+    ripples = water_model.ripples_undrawn(NUMPY, i, 1.0, lp)
+    return water_model.facet_variance(NUMPY, i, lp, log_cos, 1.0,
+                                      1.0 / np.sqrt(1.0 + sun_tan2), 1.0, ripples)
+
+
+def undrawn_ripples(f, distance, cos_view):
+    return f.ripple * water_model.undrawn(NUMPY, f.ripple_top_log, f.shortest_log,
+                                          footprint_log(f, distance, cos_view))
 
 
 def slope_variance(source, t=2.0, n=100_000, e=0.005):
@@ -134,7 +165,7 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
     layer_top = bands()[LAYER_FIRST][1]
     for d in (1.0, 10.0, 100.0, 1e3, 1e4):
         for cos in (1.0, 0.05):
-            lp = float(np.exp(shading.footprint_log(f, d, cos)))
+            lp = float(np.exp(footprint_log(f, d, cos)))
             spacing = lp / shading.PIXELS  # a vertex a pixel
             for lod in (np.inf, *band_limit.lod_for_spacing(1.0, [spacing, 4.0 * spacing])):
                 drawn = 0.0
@@ -151,9 +182,9 @@ def test_drawn_slopes_and_roughness_add_up_to_cox_munk(u):
                 # slopes, from 25 cm down) whose band lies above the footprint
                 octaves = np.clip(np.log2(top / lp), 0.0, shading.RIPPLE_OCTAVES)
                 drawn += f.ripple_gain**2 * ripple * octaves / shading.RIPPLE_OCTAVES
-                rough = float(shading.unresolved_slope_variance(f, d, cos, lod))
+                rough = float(roughness(f, d, cos, lod))
                 assert drawn + rough == pytest.approx(cox_munk, rel=0.20), (d, cos, lod, lp)
-    assert float(shading.unresolved_slope_variance(f, 1.0)) < 0.1 * cox_munk  # near: drawn
+    assert float(roughness(f, 1.0)) < 0.1 * cox_munk  # near: drawn
 
 
 @pytest.mark.parametrize("u", [2.0, 5.0, 8.0, 15.0])
@@ -170,18 +201,19 @@ def test_a_gust_roughens_the_ripples_as_cox_munk_says(u):
                                  u, gusts)
 
     f = filtering()
-    fac_std = 0.1
+    fac_std = GUST_FAC_STD
+    assert GUST_SCALE == 1.0 / 30.0  # patches 30 m across
     for z in (1.0, -1.0):
-        factor = float(shading.gust(0.5 + z * fac_std, -10.0, 1.0 / 30.0, f.gust, fac_std))
+        factor = float(gust(0.5 + z * fac_std, -10.0, f.gust))
         growth = 5.12e-3 * z * spread * np.log(12.5 / 2e-4) / np.log(10.0 / 2e-4)
         assert f.ripple * (factor - 1.0) == pytest.approx(growth, rel=1e-3), z  # gust_mean ~ 1
     # the factor's mean over a normal noise is 1, also where a lull's clip at flat water bites
     fac = 0.5 + fac_std * np.random.default_rng(5).standard_normal(400_000)
     for amplitude in (f.gust, 1.0, shading.GUST_CAP):
-        factor = shading.gust(fac, -10.0, 1.0 / 30.0, amplitude, fac_std)
+        factor = gust(fac, -10.0, amplitude)
         assert factor.min() >= 0.0 and factor.mean() == pytest.approx(1.0, abs=0.01), amplitude
     # a pixel as wide as a patch shows the ripples' mean
-    assert float(shading.gust(0.8, np.log(30.0), 1.0 / 30.0, f.gust, fac_std)) == 1.0
+    assert float(gust(0.8, np.log(30.0), f.gust)) == 1.0
     # the Gusts setting scales the spread: 0 is a steady wind
     assert filtering(2.0).gust == pytest.approx(2.0 * f.gust) and filtering(0.0).gust == 0.0
     # a swing of its ripples many times over: capped
@@ -229,6 +261,11 @@ def test_the_slope_layer_s_lookups_find_its_texels():
         assert (s, t) == pytest.approx((i, j), abs=1e-6)
 
 
+def layer_gain(band, lod, footprint):
+    return water_model.layer_gain(NUMPY, np.asarray(lod, dtype=np.float64), band.level,
+                                  band.top_log, band.bottom_log, footprint)
+
+
 def test_the_slope_layer_keeps_a_band_s_slopes_through_the_hand_over():
     """Where the vertices hold a band in part (weight g) and a pixel shows all of it, the
     geometry's g^2 and the layer's gain^2 add up to the whole band; past the footprint the
@@ -237,12 +274,12 @@ def test_the_slope_layer_keeps_a_band_s_slopes_through_the_hand_over():
     band = SpectralField(SeaState(wind_speed=9.0)).layer.bands[0]
     lods = band.level + np.linspace(-1.0, 2.0, 31)
     g = np.clip(lods - band.level, 0.0, 1.0)
-    gain = shading.layer_gain(band, lods, band.bottom_log - 1.0)
+    gain = layer_gain(band, lods, band.bottom_log - 1.0)
     assert g**2 + gain**2 == pytest.approx(1.0)
     middle = 0.5 * (band.top_log + band.bottom_log)
-    assert shading.layer_gain(band, band.level - 1.0, middle) ** 2 == pytest.approx(0.5)
-    assert shading.layer_gain(band, band.level - 1.0, band.top_log + 0.1) == 0.0
-    assert shading.layer_gain(band, band.level + 1.0, band.bottom_log - 1.0) == 0.0
+    assert layer_gain(band, band.level - 1.0, middle) ** 2 == pytest.approx(0.5)
+    assert layer_gain(band, band.level - 1.0, band.top_log + 0.1) == 0.0
+    assert layer_gain(band, band.level + 1.0, band.bottom_log - 1.0) == 0.0
 
 
 def test_the_detail_noise_draws_only_the_bands_above_the_layer():
@@ -275,9 +312,8 @@ def test_the_glint_s_facets():
     d = np.geomspace(1.0, 3000.0, 400)
     for c in (1.0, 0.3, 0.05):
         facets = (pixel * d) ** 2 / max(c, 1.0 / shading.GRAZING) / cell**2
-        undrawn = f.ripple * shading.undrawn_share(f.ripple_top_log, f.shortest_log,
-                                                    shading.footprint_log(f, d, c))
-        drawn = shading.facet_variance(f, d, c)
+        undrawn = undrawn_ripples(f, d, c)
+        drawn = facet_variance(f, d, c)
         sharp, mean = facets <= shading.FACETS_SHARP, facets >= shading.FACETS_MEAN
         assert drawn[sharp] == pytest.approx(undrawn[sharp])
         assert np.all(drawn[mean] == 0.0) and mean.any()
@@ -286,11 +322,10 @@ def test_the_glint_s_facets():
         assert np.all(np.diff(drawn[between] / undrawn[between]) <= 1e-12)
     # only where a facet may show the sun: the half vector within SUN_REACH variances
     d, c = 20.0, 0.3
-    full = shading.facet_variance(f, d, c)
-    undrawn = f.ripple * shading.undrawn_share(f.ripple_top_log, f.shortest_log,
-                                                shading.footprint_log(f, d, c))
+    full = facet_variance(f, d, c)
+    undrawn = undrawn_ripples(f, d, c)
     assert full > 0.0
-    assert shading.facet_variance(f, d, c, 0.5 * shading.SUN_REACH * undrawn) == (
+    assert facet_variance(f, d, c, 0.5 * shading.SUN_REACH * undrawn) == (
         pytest.approx(0.5 * full))
-    assert shading.facet_variance(f, d, c, shading.SUN_REACH * undrawn) == pytest.approx(
+    assert facet_variance(f, d, c, shading.SUN_REACH * undrawn) == pytest.approx(
         0.0, abs=1e-9 * full)

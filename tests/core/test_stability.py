@@ -166,8 +166,7 @@ def test_the_fitted_volume_puts_the_vertices_in_view(wind):
     them spends nearly every vertex under the screen. Built for the fitted volume it shows."""
     pose = LOW_SHOTS[wind]
     camera, fitted = check_pose(pose)
-    hf = pose.height_field().prepare(pose.time)
-    full = Extent.true_bounds(hf)
+    full = Extent.true_bounds(pose.height_field(), pose.time)
     _, bounded = pose.build(extent=full)
     assert fitted.fitted and fitted.extent.upper < 0.5 * full.upper
     assert fitted.efficiency > max(0.3, 1.4 * bounded.efficiency), (bounded.efficiency,
@@ -179,8 +178,7 @@ def test_the_projector_stands_back_from_a_sea_reaching_under_the_camera(wind, mo
     """Built for the true bounds, V_visible reaches under a low camera; a projector right above
     the camera would spend nearly all its rows there."""
     pose = LOW_SHOTS[wind]
-    hf = pose.height_field().prepare(pose.time)
-    full = Extent.true_bounds(hf)
+    full = Extent.true_bounds(pose.height_field(), pose.time)
     _, back = check_pose(pose, extent=full)
     monkeypatch.setattr(projector, "_standing_back", lambda *args: 0.0)
     _, above = check_pose(pose, extent=full)
@@ -193,8 +191,7 @@ def test_no_standing_back_for_a_camera_upside_down_past_straight_down():
     at 180°, and standing back along it would jump (found in review)."""
     pose = Pose(height=2.0, pitch=-60.0, roll=180.0, fov=120.0, amplitude=2.0, aspect=1.0,
                 far=1e3)
-    hf = pose.height_field().prepare(pose.time)
-    full = Extent.true_bounds(hf)
+    full = Extent.true_bounds(pose.height_field(), pose.time)
     _, result = check_pose(pose, extent=full)
     for eps in (-2e-7, 2e-7):
         _, moved = Pose(**{**pose.__dict__, "pitch": pose.pitch + eps}).build(extent=full)
@@ -208,7 +205,7 @@ def test_a_fitted_volume_that_misses_the_sea_is_not_kept(monkeypatch):
     pose = Pose(**{**LOW_SHOTS[6.7].__dict__, "time": 4.5})  # a crest under the screen's edge
     camera, thin = pose.build(extent=Extent(0.05, 0.05, 0.05, fitted=True))
     with pytest.raises(AssertionError, match="coverage"):
-        check_coverage(camera, thin, pose.level, pose.height_field().bound, n=33)
+        check_coverage(camera, thin, pose.level, pose.height_field().bounds(pose.time)[0], n=33)
     assert not border_outside(camera, thin, pose.level)
     monkeypatch.setattr(displaceable_volume, "FIT_SIGMAS", (0.2,))
     camera, result = check_pose(pose)

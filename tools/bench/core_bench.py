@@ -188,8 +188,7 @@ def sea_efficiency(forces=(4, 6, 8), frames=96, resolution=(65, 129)):
                 changes += last is not None and r.extent != last
                 last = r.extent
                 if frame % 12 == 0:
-                    hf = waves.prepare(t)
-                    full = Extent.true_bounds(hf)
+                    full = Extent.true_bounds(waves, t)
                     bounded.append(build_grid(cam, waves, time=t, resolution=resolution,
                                               extent=full).efficiency)
             rows.append({"force": force, "shot": name,

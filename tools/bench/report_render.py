@@ -52,7 +52,7 @@ def _render(report):
                "samples; without the filtering from geometry to BRDF the ratio is "
                f"{before:.2f}× (stored from one earlier run on another machine, not "
                "re-measured). Its error at few samples is mostly the sun glint's facets "
-               "(shading.facet_variance), sparkles EEVEE's samples find: the glitter path "
+               "(water_model.facet_variance), sparkles EEVEE's samples find: the glitter path "
                "converges more slowly than a smooth sheen would (at 16 samples "
                f"{err16['water group']:.4f} against the plain glossy's "
                f"{err16['plain glossy']:.4f}).", ""]

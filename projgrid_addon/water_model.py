@@ -1,0 +1,252 @@
+"""The water shading's model, written once: the group's inputs and the formulas of the look
+(thesis §3.4; Bruneton, Neyret and Holzschuch 2010; Fresnel; Jensen and Golias's foam).
+shaders/water.py builds the "Projected Grid Water" node tree by calling these formulas with a
+node graph; the tests call them with NumPy and evaluate the built tree, and compare both with
+the published formulas (Cox and Munk, Fresnel, Monahan).
+
+Each formula takes `m`, the maths it is evaluated in: + - * / on its values, and the methods
+max, min, clamp (to [0, 1]), log (natural), exp, sqrt (of a negative: 0), pow, abs, less and
+greater (1 or 0), mix(t, a, b) = a + t (b - a), cos and sin, as Blender's Math node has them.
+`i` maps the group's input names (INPUTS) to values. bpy-free and NumPy-free."""
+
+import math
+
+from .look import (
+    FOAM_COLOUR,
+    FOAM_EDGE,
+    FOAM_GRAIN,
+    FOAM_GRAIN_STD,
+    FOAM_RANK,
+    FOAM_STREAK,
+    GUST_FAC_STD,
+    GUST_SCALE,
+    WATER_COLOUR,
+    WHITECAP,
+)
+
+LN2 = math.log(2.0)
+LAYER_BANDS = 3
+INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
+    ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),
+    ("Foam Colour", "NodeSocketColor", (*FOAM_COLOUR, 1.0)),
+    ("IOR", "NodeSocketFloat", 1.333),
+    ("Detail Scale", "NodeSocketFloat", 1.0),
+    ("Detail Height", "NodeSocketFloat", 0.0),
+    ("Detail Octaves", "NodeSocketFloat", 0.0),
+    ("Detail Roughness", "NodeSocketFloat", 0.5),
+    ("Detail Time", "NodeSocketFloat", 0.0),
+    ("Detail First Octave", "NodeSocketFloat", 0.0),
+    ("Detail Top Log", "NodeSocketFloat", 0.0),
+    ("Ripple Scale", "NodeSocketFloat", 1.0),
+    ("Ripple Height", "NodeSocketFloat", 0.0),
+    ("Ripple Octaves", "NodeSocketFloat", 0.0),
+    ("Ripple Time", "NodeSocketFloat", 0.0),
+    # m the gusts have drifted with the wind (shading.wind_run)
+    ("Gust Drift X", "NodeSocketFloat", 0.0),
+    ("Gust Drift Y", "NodeSocketFloat", 0.0),
+    ("Gust Path", "NodeSocketFloat", 0.0),
+    ("Gust Amplitude", "NodeSocketFloat", 0.0),  # shading.Filtering.gust
+    ("Gust Norm", "NodeSocketFloat", 1.0),  # shading.Filtering.gust_norm
+    ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
+    ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
+    # The filtering of the waves too short to draw into roughness (shading.Filtering).
+    ("Pixel Log", "NodeSocketFloat", -6.0),
+    ("Cos Floor", "NodeSocketFloat", 0.1),
+    ("Distance Power", "NodeSocketFloat", 1.0),
+    ("Slope Floor", "NodeSocketFloat", 0.0),
+    ("Ripple Slopes", "NodeSocketFloat", 0.0),
+    ("Slope Density", "NodeSocketFloat", 0.0),
+    ("Shortest Log", "NodeSocketFloat", -3.5),
+    ("Ripple Top Log", "NodeSocketFloat", -1.4),
+    ("Slope Ceiling", "NodeSocketFloat", 0.0),
+    ("Left Out Log", "NodeSocketFloat", -100.0),
+    # The glint's facets (`facet_variance`): ln of their size, of the facets a pixel holds
+    # while it sparkles fully, and of those from which it shows the mean lobe.
+    ("Facet Log", "NodeSocketFloat", -4.17),
+    ("Facets Sharp Log", "NodeSocketFloat", 1.386),
+    ("Facets Mean Log", "NodeSocketFloat", 6.931),
+    ("Sun Reach", "NodeSocketFloat", 100.0),
+    ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 0.0)),  # toward the sun lamp; none: 0
+    ("Layer Top Log", "NodeSocketFloat", -100.0),
+    ("Layer Density", "NodeSocketFloat", 0.0),
+    # The slope layer's bands (slope_layer.py): slopes from the material's images, the band
+    # limit from which the vertices hold each, its waves' range (ln m).
+    *((f"Layer Slopes {b}", "NodeSocketVector", (0.0, 0.0, 0.0))
+      for b in range(1, LAYER_BANDS + 1)),
+    *((f"Layer Level {b}", "NodeSocketFloat", -100.0) for b in range(1, LAYER_BANDS + 1)),
+    *((f"Layer Top Log {b}", "NodeSocketFloat", 0.0) for b in range(1, LAYER_BANDS + 1)),
+    *((f"Layer Bottom Log {b}", "NodeSocketFloat", -1.0) for b in range(1, LAYER_BANDS + 1)),
+)
+DEFAULTS = {name: default for name, _, default in INPUTS}
+
+
+def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam_coverage=0.0,
+           layer=()):
+    """The group's float inputs for a frame: the filtering of the waves too short to draw
+    (shading.Filtering), the left-out octaves and the ripples (shading.Detail; None: the
+    defaults), the wind's direction (radians) and the whitecaps' share, and the slope layer's
+    bands ((level, top log, bottom log) each; those missing draw nothing)."""
+    f = filtering
+    out = {
+        "Pixel Log": f.pixel_log, "Distance Power": f.distance_power, "Cos Floor": f.cos_floor,
+        "Slope Floor": f.floor, "Ripple Slopes": f.ripple, "Slope Density": f.density,
+        "Shortest Log": f.shortest_log, "Ripple Top Log": f.ripple_top_log,
+        "Slope Ceiling": f.ceiling, "Facet Log": f.facet_log,
+        "Facets Sharp Log": f.facets_sharp_log, "Facets Mean Log": f.facets_mean_log,
+        "Sun Reach": f.sun_reach, "Left Out Log": f.left_out_log,
+        "Layer Top Log": f.layer_top_log, "Layer Density": f.layer_density,
+        "Gust Amplitude": f.gust, "Gust Norm": f.gust_norm,
+        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
+    if detail is not None:
+        out.update({"Detail First Octave": detail.first, "Detail Scale": detail.scale,
+                    "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,
+                    "Detail Height": detail.height,
+                    "Detail Top Log": -math.log(detail.scale)})
+    if ripple is not None:
+        out.update({"Ripple Scale": ripple.scale, "Ripple Octaves": ripple.octaves,
+                    "Ripple Height": ripple.height * f.ripple_gain})
+    for b in range(1, LAYER_BANDS + 1):
+        names = (f"Layer Level {b}", f"Layer Top Log {b}", f"Layer Bottom Log {b}")
+        band = layer[b - 1] if b <= len(layer) else (DEFAULTS[n] for n in names)
+        out.update(zip(names, (float(v) for v in band), strict=True))
+    return {name: float(v) for name, v in out.items()}
+
+
+def footprint(m, i, distance, cos_view):
+    """(ln L_p, ln cos): the shortest wave a pixel shows at `distance` (m) from the camera,
+    PIXELS pixels' footprint stretched where the view meets the mean sea plane at `cos_view`
+    (at least Cos Floor: not the waves' faces, or those facing the camera would stay sharp and
+    those facing away go milky) (shading.Filtering)."""
+    log_cos = m.log(m.max(m.abs(cos_view), i["Cos Floor"]))
+    return i["Distance Power"] * m.log(m.max(distance, 1e-6)) + i["Pixel Log"] - log_cos, log_cos
+
+
+def undrawn(m, top, bottom, footprint_):
+    """The share of a log-uniform slope spectrum between wavelengths e^bottom and e^top (ln m)
+    whose waves are shorter than the footprint: not drawn, so roughness."""
+    return m.clamp((footprint_ - bottom) / m.max(top - bottom, 1e-6))
+
+
+def octaves_drawn(m, top_log, footprint_, octaves, roughness):
+    """A fractal noise bump of `octaves` octaves past its first (wavelength e^top_log, halving)
+    keeping only the waves a pixel shows: (its Detail, the share of its height kept, the bump's
+    strength). Octave j is whole while log2(top / L_p) >= j + 1; Blender normalises the fractal
+    by its octaves' amplitude sum, so the height is kept per octave; the first octave fades with
+    the footprint across its band (finer octaves would alias and flicker: their slopes are the
+    roughness, counted as `undrawn` counts them)."""
+    shown = (top_log - footprint_) / LN2
+    detail = m.min(m.max(shown - 1.0, 0.0), octaves)
+    r = m.min(roughness, 0.999)  # (1 - r^(n+1)) / (1 - r): n + 1 at r = 1
+    kept = (1.0 - m.pow(r, detail + 1.0)) / m.max(1.0 - m.pow(r, octaves + 1.0), 1e-6)
+    return detail, kept, m.sqrt(m.clamp(shown))
+
+
+def layer_gain(m, lod, level, top, bottom, footprint_):
+    """How strongly a slope-layer band is drawn at the vertices' band limit `lod`: by
+    sqrt(1 - g^2), g the share of it the vertices hold (their tiles are independent of the
+    layer's, so the variances add), times the root of the share of its slopes (log-uniform
+    between e^bottom and e^top) in waves longer than the footprint."""
+    held = m.clamp(lod - level)
+    shown = m.clamp((top - footprint_) / m.max(top - bottom, 1e-6))
+    return m.sqrt(m.max(1.0 - held * held, 0.0) * shown)
+
+
+def gust(m, i, fac, footprint_):
+    """The factor on the ripples' slope variance where the gusts' noise (GUST_SCALE features per
+    metre, its Fac's spread GUST_FAC_STD) is `fac`: max(1 + Gust Amplitude z, 0) times Gust Norm
+    (1 / its mean, so the sea's mean slope stays Cox and Munk's), z the local wind's departure
+    in standard deviations (a lull leaves the water flat, not negative); faded to 1 as the
+    footprint nears a patch, an octave before (a patch no pixel shows would only shimmer)."""
+    shown = m.clamp((-math.log(GUST_SCALE) - footprint_) / LN2 - 1.0)
+    local = m.max((fac - 0.5) * (i["Gust Amplitude"] / GUST_FAC_STD) + 1.0, 0.0) * i["Gust Norm"]
+    return shown * (local - 1.0) + 1.0
+
+
+def ripples_undrawn(m, i, gust_, footprint_):
+    """The ripples' slope variance a pixel does not show, scaled by the gusts."""
+    return i["Ripple Slopes"] * gust_ * undrawn(m, i["Ripple Top Log"], i["Shortest Log"],
+                                                footprint_)
+
+
+def roughness(m, i, lod, footprint_, ripples):
+    """The slope variance of the waves not drawn at a pixel (shading.Filtering): the ripples'
+    undrawn share (`ripples_undrawn`) and the floor; above the ripples the waves shorter than the
+    footprint; above the slope layer also those shorter than the geometry holds at the
+    vertices' band limit (ln L_g = Left Out Log - lod ln 2); at most the Slope Ceiling."""
+    held = i["Left Out Log"] - lod * LN2
+    layer_top = m.max(i["Layer Top Log"], i["Ripple Top Log"])
+    below = m.min(m.max(footprint_ - i["Ripple Top Log"], 0.0), layer_top - i["Ripple Top Log"])
+    above = m.max(m.max(footprint_, held) - layer_top, 0.0)
+    return m.min(i["Layer Density"] * above + i["Slope Density"] * below + ripples
+                 + i["Slope Floor"], i["Slope Ceiling"])
+
+
+def fresnel(m, ior, c, backfacing):
+    """The exact unpolarised Fresnel reflectance (Eq. 1.4) at |cos| `c` to the normal, from
+    above (IOR `ior`) or on back faces from under water (1 / ior; total internal reflection
+    where g^2 < 0), in the form of Blender's fresnel_dielectric_cos."""
+    eta = m.mix(backfacing, ior, 1.0 / ior)
+    g2 = c * c + eta * eta - 1.0
+    g = m.sqrt(m.max(g2, 0.0))
+    a = (g - c) / (g + c)
+    b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+    return m.mix(m.less(g2, 0.0), a * a * 0.5 * (b * b + 1.0), 1.0)
+
+
+def mean_fresnel(m, exact, c, slopes, backfacing):
+    """From above, the reflectance less what the facets' slopes (variance `slopes`) take from
+    it: Bruneton's fit of the mean Fresnel (2010, Eq. 11), 0.02 + 0.98 (1 - cos)^(5 exp(-2.69
+    s)) / (1 + 22.7 s^1.5), s the slope deviation along the view, less its value for a mirror
+    (Schlick's), so a mirror keeps the `exact` reflectance and a rough far sea reflects less of
+    the sky at grazing. From below, the exact."""
+    sigma = m.sqrt(slopes * 0.5)
+    facing = m.max(1.0 - c, 0.0)
+    mean = m.pow(facing, m.exp(sigma * -2.69) * 5.0) / (m.pow(sigma, 1.5) * 22.7 + 1.0)
+    return m.mix(backfacing, m.max((mean - m.pow(facing, 5.0)) * 0.98 + exact, 0.0), exact)
+
+
+def facet_variance(m, i, footprint_, log_cos, front, cos_half, sun, ripples):
+    """The part of the ripples' undrawn slope variance `ripples` drawn as the glint facets' own
+    normals (the rest is the lobe's roughness): all of it while the pixel's footprint (L_p along
+    the view by L_p cos across) holds at most e^Facets Sharp Log facets of e^Facet Log, none
+    from e^Facets Mean Log, between them by ln N; only where a facet may show the sun, its
+    share 1 - tan^2 / (Sun Reach s^2) for the half vector of the view and the sun at `cos_half`
+    to the normal (elsewhere the sky's light alone, which facets would only make grainy); on
+    `front` faces (1 or 0), `sun` the sun lamp's presence (0 to 1)."""
+    facets = (footprint_ - i["Facet Log"]) * 2.0 + log_cos  # ln N
+    weight = m.clamp((i["Facets Mean Log"] - facets)
+                     / (i["Facets Mean Log"] - i["Facets Sharp Log"]))
+    tan2 = 1.0 / (cos_half * cos_half) - 1.0
+    reach = m.clamp(1.0 - tan2 / (i["Sun Reach"] * ripples + 1e-9))
+    return weight * front * (reach * sun) * ripples
+
+
+def grain_rank(m, fac):
+    """The grain noise's rank of Fac `fac`: its CDF 1 / (1 + e^-(a z + b z^3)), z in its standard
+    deviations (FOAM_GRAIN_STD, FOAM_RANK: fitted to Blender's own noise), so nearly uniform."""
+    z = (fac - 0.5) / FOAM_GRAIN_STD
+    return 1.0 / (m.exp(z * (z * z * -FOAM_RANK[1] - FOAM_RANK[0])) + 1.0)
+
+
+def grain_cover(m, rank, share):
+    """Foam where the grain's `rank` is within `share` of the top, over an edge FOAM_EDGE *
+    min(share, 1 - share) wide: its mean over the grain is the share, and nothing is drawn at
+    a share of nought. A whitecap is then a solid core whose edge breaks into bubbles and
+    streaks, not the round blob the vertices interpolate."""
+    edge = m.min(share, 1.0 - share) * FOAM_EDGE + 1e-4
+    return m.clamp((rank - 1.0 + share) / edge + 0.5) * m.greater(share, 0.0)
+
+
+def foam_cover(m, i, vertex_share, fac, footprint_, log_cos):
+    """The foam drawn at a point (the Foam mix's factor) where the vertices carry foam
+    `vertex_share` and the grain noise is `fac`: the grain's top ranks cover the share
+    (`grain_cover`); where the pixel's footprint along the view outgrows a WHITECAP the share
+    is the sea's mean Foam Coverage (per-vertex foam on a grid that moves with the camera would
+    pop), if whitecaps are called for (not contact foam alone). The grain is drawn while the
+    pixel's area (its length along the view times sqrt(cos)) holds few of its patches, so far
+    whitecaps stay specks, not a veil; past that the share itself, the grain's mean."""
+    whole = m.clamp((footprint_ - math.log(WHITECAP)) / LN2) * m.greater(i["Foam Coverage"], 0.0)
+    share = m.mix(whole, vertex_share, i["Foam Coverage"])
+    shown = m.clamp((-math.log(FOAM_GRAIN * math.sqrt(FOAM_STREAK))
+                     - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
+    return m.mix(shown, share, grain_cover(m, grain_rank(m, fac), share))
