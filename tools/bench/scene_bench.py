@@ -88,11 +88,24 @@ def moving_objects_cost(counts=(0, 2000), repeats=7):
     """Frame changes (frame_set, frame after frame) in a scene of `count` keyframed cubes moving
     through the water in view of the ocean (Add Ocean's 65x129 viewport grid, effects at AUTO
     but its whitecaps off: their calibrations, made ahead on a worker thread, would overlap
-    Blender's own work and blur the difference), with our handlers and without them,
-    interleaved: the ocean's share of a frame is the difference."""
+    Blender's own work and blur the difference), interleaved: with our handlers, without them
+    (the ocean's share of a frame is the difference), and without them but with a handler that
+    writes a plain mesh of the grid's size each frame (what Blender charges for any mesh
+    written from frame_change_post among those objects); and the time inside our frame
+    handler."""
     handlers = importlib.import_module(MODULE + ".operators.bridge.handlers")
-    ours = [(bpy.app.handlers.frame_change_post, handlers.frame_change_post),
-            (bpy.app.handlers.depsgraph_update_post, handlers.depsgraph_update_post)]
+    ours_frame = handlers.frame_change_post
+    spent = []
+
+    def timed(scene, depsgraph):
+        start = time.perf_counter()
+        ours_frame(scene, depsgraph)
+        spent.append(time.perf_counter() - start)
+
+    post = bpy.app.handlers.frame_change_post
+    ours = [(post, timed), (bpy.app.handlers.depsgraph_update_post,
+                            handlers.depsgraph_update_post)]
+    post.remove(ours_frame)
     rows = []
     rng = np.random.default_rng(7)
     try:
@@ -112,28 +125,46 @@ def moving_objects_cost(counts=(0, 2000), repeats=7):
                 obj.keyframe_insert("location", frame=1)
                 obj.location.z = z + 3.0
                 obj.keyframe_insert("location", frame=48)
+            plain = bpy.data.meshes.new("plain write")
+            plain.vertices.add(65 * 129)
+            scene.collection.objects.link(bpy.data.objects.new("plain write", plain))
+            positions = np.zeros(65 * 129 * 3, np.float32)
+
+            def write(scene, depsgraph, plain=plain, positions=positions):
+                positions[2::3] = scene.frame_current * 1e-3
+                plain.attributes["position"].data.foreach_set("vector", positions)
+                plain.update()
+
             frames = iter(range(10**6))
 
-            def step(with_ocean, scene=scene, frames=frames):
+            def step(variant, scene=scene, frames=frames, write=write):
                 for hook, handler in ours:
-                    if with_ocean and handler not in hook:
+                    if variant == "ocean" and handler not in hook:
                         hook.append(handler)
-                    elif not with_ocean and handler in hook:
+                    elif variant != "ocean" and handler in hook:
                         hook.remove(handler)
+                if (variant == "plain") != (write in post):
+                    (post.append if variant == "plain" else post.remove)(write)
                 scene.frame_set(1 + next(frames) % 47)
 
+            spent.clear()
             with bpy.context.temp_override(scene=scene, view_layer=layer):
-                times = interleaved({on: (lambda on=on: step(on)) for on in (True, False)},
+                times = interleaved({v: (lambda v=v: step(v)) for v in ("ocean", "none", "plain")},
                                     repeats)
-            rows.append({"objects": count, "with_ms": times[True].median * 1e3,
-                         "with_p10_ms": times[True].p10 * 1e3,
-                         "with_cpu_ms": times[True].cpu * 1e3,
-                         "without_ms": times[False].median * 1e3,
-                         "without_p10_ms": times[False].p10 * 1e3,
-                         "without_cpu_ms": times[False].cpu * 1e3})
+                step("none")
+            row = {"objects": count, "handler_ms": float(np.median(spent)) * 1e3}
+            for key, variant in (("with", "ocean"), ("without", "none"), ("plain", "plain")):
+                row.update({f"{key}_ms": times[variant].median * 1e3,
+                            f"{key}_p10_ms": times[variant].p10 * 1e3,
+                            f"{key}_cpu_ms": times[variant].cpu * 1e3})
+            rows.append(row)
             bpy.data.scenes.remove(scene)
     finally:
         for hook, handler in ours:
+            if handler in hook:
+                hook.remove(handler)
+        for hook, handler in ((post, ours_frame), (bpy.app.handlers.depsgraph_update_post,
+                                                   handlers.depsgraph_update_post)):
             if handler not in hook:
                 hook.append(handler)
     return rows
