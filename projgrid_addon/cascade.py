@@ -13,6 +13,7 @@ so each wave travels along its k at its own phase speed and the height variance 
 of E (spectrum.wavenumber_spectrum). The phases come from (seed, band, tile) alone.
 """
 
+from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
@@ -148,14 +149,15 @@ class Cascade:
         # (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
         # plane exactly and the sum over the lattice is the spectrum's integral even where the
         # lattice is coarse against the peak and the spreading.
+        # The spectrum is evaluated only inside the band's ring (a tenth of the lattice).
         sub = (np.arange(4) + 0.5) / 4.0 - 0.5
         energy = np.zeros(nx.shape)
         for a in sub:
             for b in sub:
                 n = np.hypot(nx + a, ny + b)
                 inside = (n >= lo) & (n < hi)
-                energy += np.where(inside, spectrum.wavenumber_spectrum(
-                    *world(nx + a, ny + b), state, part), 0.0)
+                energy[inside] += spectrum.wavenumber_spectrum(
+                    *world(nx[inside] + a, ny[inside] + b), state, part)
         energy *= share / 16.0
         # The tiles are synthesised in single precision: the vertices are float32 anyway, and
         # the transforms and the patches move half the bytes.
@@ -240,15 +242,36 @@ class Cascade:
         return np.fft.irfft2(spectra, s=(self.texels, self.texels), norm="forward")
 
 
-def layout(state, seed, texels_base):
+def layout_shares(state, wind_span=None):
+    """The band shares (`band_shares`) a layout is made for: `state`'s, or over a `wind_span`
+    (least, most m/s; widened to the state's own wind) the most each band takes at any wind
+    in it (sampled every 0.25 m/s and at its ends), so one layout serves a wind keyframed
+    through the span."""
+    if wind_span is None:
+        return band_shares(state)
+    u = float(state.wind_speed)
+    lo, hi = min(*wind_span, u), max(*wind_span, u)
+    return list(_span_shares(replace(state, wind_speed=float(lo)), float(hi)))
+
+
+@lru_cache(maxsize=16)
+def _span_shares(state, most):
+    """`layout_shares` from `state`'s wind up to `most` (kept: every frame of the shot asks)."""
+    winds = np.linspace(state.wind_speed, most, int((most - state.wind_speed) / 0.25) + 2)
+    return tuple(np.max([band_shares(replace(state, wind_speed=float(u))) for u in winds],
+                        axis=0))
+
+
+def layout(state, seed, texels_base, wind_span=None):
     """The tiles of a sea: (cascades, groups), groups (band limit, swell heading or None,
-    range of its cascades) per band. Each band's share of the variance is spread over
-    ceil(share / SHARE_PER_TILE) tiles of sizes TILE_RATIOS apart, turned evenly over a quarter
-    turn, with phases of their own; the swell's core (the last group) is band-limited along
-    its headings."""
+    range of its cascades) per band. Each band's share of the variance (`layout_shares`: over
+    a keyframed wind's span) is spread over ceil(share / SHARE_PER_TILE) tiles of sizes
+    TILE_RATIOS apart, turned evenly over a quarter turn, with phases of their own, and their
+    energy is the state's; the swell's core (the last group) is band-limited along its
+    headings."""
     cascades, groups = [], []
     swell = has_swell_core(state)
-    shares = band_shares(state)
+    shares = layout_shares(state, wind_span)
     for b, ((shortest, longest), share) in enumerate(zip(
             [*bands(), swell_core_waves(state)], shares, strict=True)):
         if share < 1e-7:

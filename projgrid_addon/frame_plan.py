@@ -32,14 +32,17 @@ SEA = ("resolution_x", "resolution_y", "render_resolution_x", "render_resolution
        "wind_direction", "fetch", "choppiness", "swell_height", "swell_direction",
        "swell_period", *effects.EFFECTS)
 LOOK = ("water_colour", "foam_colour", "clarity", "gusts")
-Settings = namedtuple("Settings", SEA + LOOK)
+# And the span (least, most) of a keyframed wind speed over its keyframes (None: not keyed):
+# the spectral sea's tiles are laid out for all of it (cascade.layout).
+Settings = namedtuple("Settings", (*SEA, *LOOK, "wind_span"), defaults=(None,))
 
 
-def settings_of(values):
+def settings_of(values, wind_span=None):
     """`Settings` from anything with those attributes (obj.projgrid, evaluated or not): plain
-    numbers, strings and tuples, hashable."""
+    numbers, strings and tuples, hashable; `wind_span` as Settings says."""
     return Settings(*(tuple(v) if hasattr(v, "__len__") and not isinstance(v, str) else v
-                      for v in (getattr(values, name) for name in Settings._fields)))
+                      for v in (getattr(values, name) for name in SEA + LOOK)),
+                    wind_span=None if wind_span is None else tuple(wind_span))
 
 
 def height_source(s):
@@ -51,7 +54,7 @@ def height_source(s):
         state = SeaState(wind_speed=s.wind_speed, wind_direction=s.wind_direction,
                          fetch=s.fetch, spectrum=s.spectrum, swell_height=s.swell_height,
                          swell_direction=s.swell_direction, swell_period=s.swell_period)
-        return _spectral(state, s.choppiness, s.seed)
+        return _spectral(state, s.choppiness, s.seed, s.wind_span)
     amplitude, wave_scale = s.amplitude, s.wave_scale
     if s.noise_from_wind:
         amplitude, wave_scale = noise_waves(s.wind_speed, s.fetch, s.spectrum, s.octaves,
@@ -61,8 +64,8 @@ def height_source(s):
 
 
 @lru_cache(maxsize=4)
-def _spectral(state, choppiness, seed):
-    return SpectralField(state, choppiness, seed)
+def _spectral(state, choppiness, seed, wind_span):
+    return SpectralField(state, choppiness, seed, wind_span=wind_span)
 
 
 @lru_cache(maxsize=4)

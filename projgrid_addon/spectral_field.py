@@ -75,14 +75,17 @@ class SpectralField:
     read are kept as a cache keyed by that time, not as state a reader must set up.
     """
 
-    def __init__(self, state, choppiness=0.0, seed=0, texels=TEXELS):
+    def __init__(self, state, choppiness=0.0, seed=0, texels=TEXELS, wind_span=None):
+        """`wind_span`: (least, most) wind speed a shot's keyframed wind takes; the tiles are
+        laid out for all of it, so the sea changes smoothly as the wind does (None: this
+        state's wind only)."""
         self.state = state
         self.choppiness = non_negative("choppiness", choppiness)
         self.seed = integer("seed", seed, 0, 2**63)
         self.texels = integer("texels", texels, 8, 1024)
         if self.texels & (self.texels - 1):
             raise ValueError(f"texels: must be a power of two, got {self.texels}")
-        self.cascades, self.groups = layout(state, self.seed, self.texels)
+        self.cascades, self.groups = layout(state, self.seed, self.texels, wind_span)
         swell, shares = has_swell_core(state), band_shares(state)
         # The band limit (band_limit.py) in units of 1 m: a band is kept whole while its shortest
         # wave is at least sqrt(2) * 2 grid spacings long, faded out over the next octave.

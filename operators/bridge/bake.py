@@ -27,7 +27,7 @@ import bpy
 from . import ahead, material_inputs, scene, shot
 from .bake_play import play
 from .bake_record import SCRATCH, Recording, folder_of, kept_path
-from .baked import bag_curves, body_material, free, is_copy
+from .baked import body_material, free, is_copy
 from .state import RUNTIME
 
 TIMER = "Projected Grid Bake Time"  # the node group that makes the exporter sample each frame
@@ -236,7 +236,7 @@ def _animated(tree):
     data = tree.animation_data
     if data is None:
         return set()
-    return {d.data_path for d in data.drivers} | {c.data_path for c in bag_curves(tree)}
+    return {d.data_path for d in data.drivers} | {c.data_path for c in scene.bag_curves(tree)}
 
 
 def _time_group():

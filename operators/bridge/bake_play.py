@@ -14,7 +14,6 @@ from .baked import (
     FOLLOW,
     KEYED,
     MODIFIER,
-    bag_curves,
     baked_companions,
     body_material,
     drift_drivers,
@@ -144,7 +143,7 @@ def _key_companion(companion, ocean, recorded):
             prop = f'["{FOLLOW[prop]}"]'
             frames = {f: int(v) for f, v in frames.items()}
         if _key_frames(target, prop, frames):
-            _hold(bag_curves(target))
+            _hold(scene.bag_curves(target))
 
 
 def _key_frames(target, prop, frames, value=lambda v: v):
@@ -207,5 +206,5 @@ def _key(tree, values):
     keyed = [path for path, frames in values.items()
              if _key_frames(tree.path_resolve(path.rsplit(".", 1)[0]), "default_value", frames,
                             lambda v: v[0] if len(v) == 1 else v)]
-    _hold(c for c in bag_curves(tree) if c.data_path in keyed)
+    _hold(c for c in scene.bag_curves(tree) if c.data_path in keyed)
     tree[KEYED] = keyed

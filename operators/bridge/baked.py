@@ -68,25 +68,10 @@ def drift_drivers(tree):
     return {p: c for p in paths if (c := data.drivers.find(p)) is not None}
 
 
-def bag_curves(tree):
-    """The F-curves of `tree`'s (an ID's) action for it (none without one)."""
-    bag = _channelbag(tree)
-    return list(bag.fcurves) if bag is not None else []
-
-
-def _channelbag(tree):
-    data = tree.animation_data
-    if data is None or data.action is None:
-        return None
-    from bpy_extras import anim_utils
-
-    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
-
-
 def _unkey(tree):
     """The keyframes `_key` made, removed (and the action, if they were all it held)."""
     keyed = set(tree.get(KEYED, []))
-    bag = _channelbag(tree)
+    bag = scene.channelbag(tree)
     if bag is not None:
         for curve in [c for c in bag.fcurves if c.data_path in keyed]:
             bag.fcurves.remove(curve)
@@ -128,7 +113,7 @@ def free(obj):
                 target.pop(key, None)
             if target.animation_data is None:
                 continue
-            action = target.animation_data.action if bag_curves(target) else None
+            action = target.animation_data.action if scene.bag_curves(target) else None
             if action is not None or len(target.animation_data.drivers):
                 target.animation_data_clear()
             if action is not None and action.users == 0:

@@ -9,10 +9,8 @@ import numpy as np
 
 from ...projgrid_addon import Camera, frame_plan, shading
 from ...shaders import sky
-from . import bake_record, baked, companions, material_inputs, objects, scene, shot
+from . import bake_record, companions, material_inputs, objects, scene, shot
 from .state import RUNTIME
-
-WIND_PATHS = ("projgrid.wind_speed", "projgrid.wind_direction")
 
 
 @dataclass(frozen=True)
@@ -85,7 +83,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     if not shown:
         return Gathered(**base)
     values = values or ocean.evaluated_get(depsgraph).projgrid
-    s = frame_plan.settings_of(values)
+    s = scene.read_settings(values)
     try:
         resolution = scene.resolution(s, render)
         camera = view or (None if render else RUNTIME.live_view)
@@ -139,7 +137,7 @@ def fingerprint(app, the_scene, depsgraph, frame_change=True):
                                        for m in seen)).hexdigest()[:12]
     except ValueError:
         camera = "none"
-    s = frame_plan.settings_of(app.ocean.evaluated_get(depsgraph).projgrid)
+    s = scene.read_settings(app.ocean.evaluated_get(depsgraph).projgrid)
     s = s._replace(resolution_x=0, resolution_y=0)  # the viewport's grid: not baked
     return f"{camera}:{hashlib.sha1(repr(s).encode()).hexdigest()[:12]}"
 
@@ -167,7 +165,7 @@ def our_material(app, surface):
 def wind_samples(ocean, frame_now, s):
     """(frames, speeds, directions) of the ocean's keyframed wind at each frame from 0 to now
     (frame_plan.gust_drift integrates its run), or None when neither is keyframed."""
-    curves = {c.data_path: c for c in baked.bag_curves(ocean) if c.data_path in WIND_PATHS}
+    curves = {c.data_path: c for c in scene.bag_curves(ocean) if c.data_path in scene.WIND_PATHS}
     if not curves:
         return None
     frames = np.append(np.arange(0.0, frame_now, 1.0 if frame_now >= 0 else -1.0), frame_now)
@@ -177,5 +175,5 @@ def wind_samples(ocean, frame_now, s):
         return tuple(curve.evaluate(f) for f in frames) if curve is not None else (
             (float(value),) * len(frames))
 
-    return (tuple(frames), sampled(WIND_PATHS[0], s.wind_speed),
-            sampled(WIND_PATHS[1], s.wind_direction))
+    return (tuple(frames), sampled(scene.WIND_PATHS[0], s.wind_speed),
+            sampled(scene.WIND_PATHS[1], s.wind_direction))

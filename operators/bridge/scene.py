@@ -53,7 +53,46 @@ def writable(obj):
 
 def height_field(settings):
     """The core height source for (possibly evaluated) settings (frame_plan.height_source)."""
-    return frame_plan.height_source(frame_plan.settings_of(settings))
+    return frame_plan.height_source(read_settings(settings))
+
+
+def read_settings(values):
+    """frame_plan.Settings of an ocean's (possibly evaluated) `values` (obj.projgrid), with the
+    span of its keyframed wind speed (`wind_span`)."""
+    return frame_plan.settings_of(values, wind_span(values.id_data))
+
+
+WIND_PATHS = ("projgrid.wind_speed", "projgrid.wind_direction")
+
+
+def wind_span(ocean):
+    """(least, most) wind speed (m/s) the ocean's keyframed wind takes over its keyframes, or
+    None when it is not keyframed: the spectral sea lays its tiles out for the whole span, so a
+    wind that builds changes the waves' heights smoothly, not their tiles (a pure function of
+    the scene, not of the frame)."""
+    curve = next((c for c in bag_curves(ocean) if c.data_path == WIND_PATHS[0]), None)
+    if curve is None or not len(curve.keyframe_points):
+        return None
+    start, end = curve.range()
+    frames = np.linspace(start, end, max(int(end - start) + 1, 2))
+    speeds = [max(curve.evaluate(f), 0.0) for f in frames]
+    return (round(float(min(speeds)), 6), round(float(max(speeds)), 6))
+
+
+def bag_curves(tree):
+    """The F-curves of `tree`'s (an ID's) action for it (none without one)."""
+    bag = channelbag(tree)
+    return list(bag.fcurves) if bag is not None else []
+
+
+def channelbag(tree):
+    """`tree`'s action's channels for its slot, or None."""
+    data = tree.animation_data
+    if data is None or data.action is None:
+        return None
+    from bpy_extras import anim_utils
+
+    return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
 
 
 def ocean_objects(scene):

@@ -84,7 +84,7 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     assert not bridge.baked.is_baked(obj) and obj.projgrid.bake_camera == ""
     assert not [c for c in bpy.data.cache_files]
     tree = obj.data.materials[0].node_tree
-    assert bridge.baked.KEYED not in tree and not bridge.baked.bag_curves(tree)
+    assert bridge.baked.KEYED not in tree and not bridge.scene.bag_curves(tree)
     assert not [i for i in bpy.data.images if i.name.startswith("Projected Grid Bake")]
     scene.frame_set(2)
     assert len(obj.data.vertices) == 65 * 129  # rebuilt live again

@@ -104,7 +104,7 @@ def test_a_baked_ocean_keeps_its_keys_through_renders(moving, bridge, tmp_path):
         bridge.handlers.render_done(scene)
     tree = obj.data.materials[0].node_tree
     assert keyed and set(tree[bridge.baked.KEYED]) == keyed
-    assert keyed <= {c.data_path for c in bridge.baked.bag_curves(tree)}
+    assert keyed <= {c.data_path for c in bridge.scene.bag_curves(tree)}
 
 
 def test_a_frame_that_sees_no_water_bakes_empty(moving, bridge, tmp_path):
@@ -257,8 +257,8 @@ def test_a_duplicate_of_a_baked_ocean_leaves_the_original_baked(moving, bridge, 
     scene.frame_set(2)  # the live copy takes a material of its own: without the bake's keys
     mine, theirs = copy.data.materials[0].node_tree, obj.data.materials[0].node_tree
     assert mine != theirs and bridge.baked.KEYED not in mine
-    assert not {c.data_path for c in bridge.baked.bag_curves(mine)} & set(keyed)
-    assert set(keyed) <= {c.data_path for c in bridge.baked.bag_curves(theirs)}
+    assert not {c.data_path for c in bridge.scene.bag_curves(mine)} & set(keyed)
+    assert set(keyed) <= {c.data_path for c in bridge.scene.bag_curves(theirs)}
 
 
 def test_an_out_of_date_bake_is_flagged(moving, bridge, extension, tmp_path, capfd):

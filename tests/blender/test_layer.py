@@ -77,7 +77,7 @@ def test_the_gusts_drift_with_a_keyframed_wind(bridge):
         s.keyframe_insert("wind_speed", frame=frame)
         s.keyframe_insert("wind_direction", frame=frame)
     spf = bridge.shot.seconds_per_frame(scene)
-    curves = {c.data_path: c for c in bridge.baked.bag_curves(obj)}
+    curves = {c.data_path: c for c in bridge.scene.bag_curves(obj)}
     for frame, subframe in ((25, 0.0), (49, 0.5)):
         scene.frame_set(frame, subframe=subframe)
         mat = obj.data.materials[0]

@@ -41,6 +41,30 @@ def test_the_wind_raises_the_spectral_sea(sea):
     assert heights[0] < heights[1] < heights[2]
 
 
+def test_a_keyed_wind_keeps_its_tiles(sea, bridge):
+    """Wind speed keyframed 8 -> 10 m/s: every frame's sea is laid out for the keyed span
+    (scene.wind_span, a function of the keyframes, not of the frame), so its tiles stay and
+    only their heights follow the wind; unkeyed, the span is gone."""
+    s, scene = sea.projgrid, bpy.context.scene
+    s.wind_speed = 8.0
+    s.keyframe_insert("wind_speed", frame=1)
+    s.wind_speed = 10.0
+    s.keyframe_insert("wind_speed", frame=49)
+    assert bridge.scene.wind_span(sea) == (8.0, 10.0)
+    tiles = []
+    for frame in (2, 17, 33, 48):
+        scene.frame_set(frame)
+        evaluated = sea.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid
+        assert bridge.scene.read_settings(evaluated).wind_span == (8.0, 10.0)
+        source = bridge.scene.height_field(evaluated)
+        assert source.state.wind_speed == pytest.approx(evaluated.wind_speed)
+        tiles.append([(c.size, c.turn) for c in source.cascades])
+    assert 8.0 < sea.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid.wind_speed
+    assert all(t == tiles[0] for t in tiles)
+    sea.animation_data_clear()
+    assert bridge.scene.wind_span(sea) is None
+
+
 def test_the_wind_raises_the_noise_from_wind(bridge, extension):
     """With From Wind (Add Ocean's), the noise's height and wavelength are the wind's sea's
     (sea_states.noise_waves), the wind keyframed too; set by hand, the wind leaves them."""
