@@ -145,9 +145,12 @@ def pseudo_log2(ratio, out=None):
     return out
 
 
-def grid_steps(c, left, right, u, wave_scale):
+def grid_steps(c, left, right, u, wave_scale, du=None, dv=None):
     """The grid's steps per row along u and per column along v, in units of wave_scale / 2, each
-    still to be divided by w^2 at the vertex: (along_u (ny,), along_v (nx,), scale).
+    still to be divided by w^2 at the vertex: (along_u (ny,), along_v (nx,), scale, du, dv),
+    the step along u at a column being along_u times du there and along v at a row along_v
+    times dv (`du`, `dv`: each column's du/ds and row's dv/ds, their spacing against an even
+    one; None: even).
 
     For p = h / w with h affine along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with
     D = right - left: a per-row vector over w^2, and likewise per column along v. `c` are the
@@ -162,15 +165,21 @@ def grid_steps(c, left, right, u, wave_scale):
     e = iu * (c[2] - c[0]) + u[:, None] * (c[3] - c[1])  # (nx, 4): d hom / dv
     along_v = np.hypot(e[:, 0] * bottom[:, 3] - bottom[:, 0] * e[:, 3],
                        e[:, 1] * bottom[:, 3] - bottom[:, 1] * e[:, 3]) / (ny - 1)
-    return along_u, along_v, 2.0 / wave_scale
+    return along_u, along_v, 2.0 / wave_scale, du, dv
 
 
 def lod_from_w(steps, rows, hw, out):
     """Per-vertex level of detail of the grid `rows` whose homogeneous w are `hw`, into `out`
     (float32): log2 of w^2 over the larger step; `steps` from `grid_steps`."""
-    along_u, along_v, scale = steps
+    along_u, along_v, scale, du, dv = steps
     step = scratch("step", hw.shape, np.float64)
-    np.maximum(along_u[rows, None], along_v[None, :], out=step)
+    if dv is None:
+        np.maximum(along_u[rows, None], along_v[None, :], out=step)
+    else:
+        across = scratch("across", hw.shape, np.float64)
+        np.multiply(along_u[rows, None], du[None, :], out=across)
+        np.multiply(along_v[None, :], dv[rows, None], out=step)
+        np.maximum(across, step, out=step)
     step *= scale
     ratio = scratch("ratio", hw.shape, np.float64)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

@@ -12,7 +12,7 @@
 """
 
 from dataclasses import dataclass, replace
-from functools import cached_property, lru_cache
+from functools import cached_property
 
 import numpy as np
 
@@ -47,6 +47,8 @@ class GridResult:
     base: np.ndarray | None = None  # (2, ny, nx) float64 grid points on S_base, when displaced
     # sideways (choppy); `surface` then holds the displaced points
     extent: Extent | None = None  # the displaceable volume the grid was built for
+    # ((nx,), (ny,)) float64: each column's u and each row's v in the span (Projector.spacing)
+    spacing: tuple | None = None
 
     @property
     def fitted(self):
@@ -102,17 +104,6 @@ def grid_topology(nx, ny):
     ).reshape(-1, 4)
     quads.setflags(write=False)
     return quads
-
-
-@lru_cache(maxsize=8)
-def grid_axes(nx, ny):
-    """u, 1 - u as (nx,) and v, 1 - v as (ny, 1) float64 arrays over [0, 1] (read-only)."""
-    u = np.linspace(0.0, 1.0, nx)
-    v = np.linspace(0.0, 1.0, ny)[:, None]
-    axes = (u, 1.0 - u, v, 1.0 - v)
-    for a in axes:
-        a.setflags(write=False)
-    return axes
 
 
 def grid_uv(nx, ny):
@@ -335,12 +326,13 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
     # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v), in the
     # weighted form: corners can differ in scale by 1e6 (w ~ 1 / distance), and differences of
     # corners would cancel catastrophically near the horizon.
-    u, iu, v, iv = grid_axes(nx, ny)
-    left = iv * c[0] + v * c[2]  # (ny, 4): hom at u = 0
-    right = iv * c[1] + v * c[3]  # (ny, 4): hom at u = 1
+    u, du, v, dv = projector.spacing(camera, level, extent, c, nx, ny)
+    iu = 1.0 - u
+    left = (1.0 - v) * c[0] + v * c[2]  # (ny, 4): hom at u = 0
+    right = (1.0 - v) * c[1] + v * c[3]  # (ny, 4): hom at u = 1
     xy = np.empty((2, ny, nx))
     lod = np.empty((ny, nx), np.float32) if band_limit else None
-    steps = grid_steps(c, left, right, u, hf.wave_scale) if band_limit else None
+    steps = grid_steps(c, left, right, u, hf.wave_scale, du, dv) if band_limit else None
     for start in range(0, ny, max(1, CHUNK // nx)):
         rows = slice(start, min(ny, start + max(1, CHUNK // nx)))
         n = rows.stop - start
@@ -370,4 +362,4 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
     shader = hf.shader_octaves(lod)
     lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
-                      (nx, ny), origin, camera, base, extent)
+                      (nx, ny), origin, camera, base, extent, (u, v[:, 0]))

@@ -26,11 +26,46 @@ RANGE_MARGIN = 1e-5
 STEEPEST = np.radians(45.0)
 STAND_BACK = 3.0
 
+# The grid's columns and rows (`Projector.spacing`): this share spread evenly over the span,
+# the rest as the camera's screen covers it; the span sampled this finely for it, along these
+# lines, within this margin of the screen's edges, and tending to even under SEEN of screen.
+OFF_SCREEN = 0.1
+SPACING_SAMPLES = 257
+SEEN = 0.05
+SCREEN_EDGE = 0.1
+LINES = np.linspace(0.05, 0.95, 7)  # the columns (then rows) whose screen length is summed
+
 # Normalised projections: only x/w and y/w matter to the grid (M_range absorbs field of view, aspect
 # and lens shift): NDC (x, y) is the point's camera-space (x, y) over its distance (perspective) or
 # as it is (orthographic), so the ray through NDC (x, y) runs along x right + y up + forward.
 _PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, -1.0, 0]])
 _ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
+
+
+def _on_screen(a, b):
+    """How much screen each segment a -> b ((..., 2) NDC each) covers: its length, weighted at
+    its middle by a window that is 1 inside the screen and falls to 0 over SCREEN_EDGE on
+    either side of its edges, so it changes continuously as the segments move, even along an
+    edge (a plane seen edge-on there)."""
+    mid, d = 0.5 * (a + b), b - a
+    with np.errstate(invalid="ignore", over="ignore"):
+        window = np.prod(np.clip((1.0 + SCREEN_EDGE - np.abs(mid)) / (2.0 * SCREEN_EDGE), 0.0,
+                                 1.0), axis=-1)
+        length = np.hypot(d[..., 0], d[..., 1])
+    return np.where(np.isfinite(window) & np.isfinite(length), window * length, 0.0)
+
+
+def _spread(s, t, seen):
+    """Grid coordinates at even steps `s` over [0, 1], of density OFF_SCREEN even plus the
+    rest as `seen` (per interval of the samples `t`), tending to even where little is seen
+    (SEEN): (coordinates, their derivative in s)."""
+    total = seen.sum() + SEEN
+    density = (1.0 - OFF_SCREEN) * seen / total + (
+        OFF_SCREEN + (1.0 - OFF_SCREEN) * SEEN / total) / len(seen)
+    cdf = np.concatenate([[0.0], np.cumsum(density)])
+    cdf /= cdf[-1]
+    out = np.interp(s, cdf, t)
+    return out, np.gradient(out, s)
 
 
 def _horizontal(v):
@@ -88,6 +123,54 @@ class Projector:
                 lo[1] = max(lo[1], stop)
         return Projector(self.view, self.proj, self.position, self.forward, self.orthographic,
                          (lo[0], hi[0], lo[1], hi[1]), row)
+
+    def spacing(self, camera, level, extent, corners, nx, ny):
+        """Where the grid's columns and rows fall in the span (§2.4 step 5): (u (nx,), du/ds
+        (nx,), v (ny, 1), dv/ds (ny,)) for columns and rows s = 0 .. 1 evenly.
+
+        The span is even in the projector's screen, which stands higher and further back than
+        a low camera: most of an even grid would fall where S_base lies under or beside the
+        camera's screen, where only the highest crests show. So columns and rows follow the
+        camera's own screen: each part of the span gets them as the screen length (NDC) its
+        points cover there, and OFF_SCREEN of them are spread evenly over the whole span, so
+        every part keeps some (crests from under the screen's edge, the choppy margin). The
+        screen length is that of the span's points lifted to three heights, the mean sea and
+        half way to the displaceable volume's bounds (`extent`): a camera on the surface sees
+        S_base edge-on, the waves about it not; a span the screen hardly sees (under SEEN)
+        tends to even. Continuous in the camera (no popping); the whole span stays covered,
+        and the grid stays a product of columns and rows, so its corners still interpolate it
+        exactly. `corners`: the grid's homogeneous corners on S_base (corner_points)."""
+        s_u, s_v = np.linspace(0.0, 1.0, nx), np.linspace(0.0, 1.0, ny)
+        if camera.orthographic or self.orthographic or min(nx, ny) < 3:
+            return s_u, np.ones(nx), s_v[:, None], np.ones(ny)
+        t = np.linspace(0.0, 1.0, SPACING_SAMPLES)
+        v, dv = _spread(s_v, t, self._seen(camera, level, extent, corners, LINES[:, None],
+                                           t[None, :]))
+        across = np.interp(LINES, s_v, v)
+        u, du = _spread(s_u, t, self._seen(camera, level, extent, corners, t[None, :],
+                                           across[:, None]))
+        return u, du, v[:, None], dv
+
+    @staticmethod
+    def _seen(camera, level, extent, corners, u, v):
+        """The screen length (NDC, `_on_screen`) of the span's lines from (u, v) along the
+        sampled axis (the one of length > 1), summed over the lines and three heights (the
+        mean sea's counting as much as the other two)."""
+        hom = ((1.0 - u) * (1.0 - v))[..., None] * corners[0] + (u * (1.0 - v))[..., None] * \
+            corners[1] + ((1.0 - u) * v)[..., None] * corners[2] + (u * v)[..., None] * corners[3]
+        seen = 0.0
+        for z, weight in ((level - 0.5 * extent.lower, 0.25), (level, 0.5),
+                          (level + 0.5 * extent.upper, 0.25)):
+            clip = np.stack([hom[..., 0], hom[..., 1], hom[..., 3] * z, hom[..., 3]],
+                            axis=-1) @ camera.viewproj.T
+            front = clip[..., 3] > 0.0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ndc = np.where(front[..., None],
+                               clip[..., :2] / np.where(front, clip[..., 3], 1.0)[..., None], 0.0)
+            both = front[:, 1:] & front[:, :-1]
+            seen = seen + weight * np.where(both, _on_screen(ndc[:, :-1], ndc[:, 1:]),
+                                            0.0).sum(axis=0)
+        return seen
 
     @property
     def horizon_y(self):

@@ -294,8 +294,7 @@ def test_scale_messages_say_what_is_wrong_and_what_to_do(state):
     assert "scale is zero on Y" in message and "give it a non-zero scale" in message
 
 
-@pytest.mark.parametrize("setting, value, advice", [
-    ("amplitude", 1e4, "lower Amplitude"), ("projector_elevation", 1e4, "lower it")])
+@pytest.mark.parametrize("setting, value, advice", [("amplitude", 1e4, "lower Amplitude")])
 def test_settings_at_their_maxima_warn_of_a_flat_sea(state, setting, value, advice):
     scene = bpy.context.scene
     add_camera(scene)
@@ -309,13 +308,17 @@ def test_settings_at_their_maxima_warn_of_a_flat_sea(state, setting, value, advi
 
 def test_a_flat_noise_from_wind_is_told_to_raise_the_grid(bridge, extension):
     """From Wind, Amplitude and Wave Scale are unused: the flat-sea warning does not name
-    them (a grid whose finest level holds no octave)."""
+    them (a grid whose finest level holds no octave); a Projector Elevation far above the
+    waves is named. (Its maximum, 10 km, no longer flattens the default shot's sea: the
+    grid's columns and rows follow the camera's screen, Projector.spacing.)"""
     from types import SimpleNamespace
 
     hf = extension.projgrid_addon.HeightField(amplitude=1.0, wave_scale=40.0)
     result = SimpleNamespace(visible=True, lod=np.array([-3.0]))
-    for from_wind, advice in ((False, "lower Amplitude"), (True, "raise the grid resolution")):
-        settings = SimpleNamespace(projector_elevation=0.0, height_source="PERLIN",
+    for from_wind, elevation, advice in ((False, 0.0, "lower Amplitude"),
+                                         (True, 0.0, "raise the grid resolution"),
+                                         (False, 1e4, "lower it")):
+        settings = SimpleNamespace(projector_elevation=elevation, height_source="PERLIN",
                                    noise_from_wind=from_wind)
         warning = extension.projgrid_addon.frame_plan.flat_warning(hf, hf.bound, result,
                                                                    settings)

@@ -258,10 +258,15 @@ def check_result(camera, result, level, bound):
     # Corner interpolation equals the per-vertex ray-plane intersection.
     x0, x1, y0, y1 = pr.span
     u = np.tile(np.linspace(0.0, 1.0, nx), ny)  # exact grid coordinates, not the float32 uv
-    v = np.repeat(np.linspace(0.0, 1.0, ny), nx)
-    uv = np.column_stack([u, v])
+    s = np.repeat(np.linspace(0.0, 1.0, ny), nx)
+    uv = np.column_stack([u, s])
     record("uv", np.abs(result.uv - uv) / (1e-7 + 1e-5 * uv))  # allclose's tolerance
     assert np.allclose(result.uv, uv, atol=1e-7)
+    # The columns' u and rows' v in the span (Projector.spacing): from 0 to 1, rising.
+    for t in result.spacing:
+        assert t[0] == 0.0 and t[-1] == 1.0 and np.all(np.diff(t) > 0.0), "spacing"
+    u = np.tile(result.spacing[0], ny)
+    v = np.repeat(result.spacing[1], nx)
     ndc = np.column_stack([x0 + u * (x1 - x0), y0 + v * (y1 - y0)])
     right, up, back = pr.view[:3, :3]  # rows of a rotation: its exact inverse's columns
     if pr.orthographic:

@@ -11,8 +11,12 @@ from projgrid_addon import (
     grid_topology,
     look_at,
     perspective,
+    sea_state,
     snapped_origin,
 )
+from projgrid_addon.projector import Projector
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
 
 CAM = (look_at((0, 0, 10), (0, 100, 5)), perspective(np.radians(50), 16 / 9, 0.1, 1e4))
 
@@ -84,3 +88,42 @@ def test_corner_uv_is_the_grid_uv_at_each_corner(flipped):
     if flipped:
         quads = quads[:, ::-1]
     assert np.array_equal(corner_uv(5, 4, flipped), grid_uv(5, 4)[quads.ravel()])
+
+
+def _gale_from(height, pitch):
+    p = sea_state(8)
+    waves = SpectralField(SeaState(wind_speed=p.wind_speed, fetch=p.fetch,
+                                   swell_height=p.swell_height, swell_period=p.swell_period),
+                          choppiness=p.choppiness)
+    eye = np.array([0.0, 0.0, height])
+    forward = (0.0, np.cos(np.radians(pitch)), np.sin(np.radians(pitch)))
+    return waves, (look_at(eye, eye + forward), perspective(np.radians(28.0), 16 / 9, 0.1, 2e4))
+
+
+@pytest.mark.parametrize("height, pitch", [(4.0, 0.0), (5.0, -2.0)])
+def test_a_low_camera_in_a_gale_spends_its_vertices_on_the_screen(height, pitch, monkeypatch):
+    """A gale (Beaufort 8, its waves nearly as high as the camera) from 4-5 m up: the grid's
+    columns and rows follow the camera's screen (Projector.spacing), so over 12 s at least half
+    of the viewport grid's vertices are on the screen (median), more than twice an even grid's;
+    and the render grid keeps half the sea's height (standard deviation) 200 to 1,000 m away."""
+    waves, cam = _gale_from(height, pitch)
+    sigma = waves.spread[0]
+
+    def frames(resolution):
+        for t in np.arange(0.0, 12.0, 1.5):
+            yield build_grid(cam, waves, time=t, resolution=resolution)
+
+    followed = [r.efficiency for r in frames((65, 129))]
+    far = []
+    for r in frames((257, 513)):
+        x, y, h = r.surface
+        d = np.hypot(x, y)
+        far.append(h[(d > 200.0) & (d < 1000.0)].std() / sigma)
+
+    def evenly(self, camera, level, extent, corners, nx, ny):
+        s_u, s_v = np.linspace(0.0, 1.0, nx), np.linspace(0.0, 1.0, ny)
+        return s_u, np.ones(nx), s_v[:, None], np.ones(ny)
+    monkeypatch.setattr(Projector, "spacing", evenly)
+    evened = [r.efficiency for r in frames((65, 129))]
+    assert np.median(followed) >= max(0.5, 2.0 * np.median(evened)), (followed, evened)
+    assert np.median(far) >= 0.5, far

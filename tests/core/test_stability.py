@@ -163,27 +163,29 @@ LOW_SHOTS = {  # wind m/s: a camera 4 m up looking 4 degrees down, the sea chopp
 @pytest.mark.parametrize("wind", LOW_SHOTS)
 def test_the_fitted_volume_puts_the_vertices_in_view(wind):
     """The true bounds of a spectral sea sum every band's extreme; a low camera's grid built for
-    them spends nearly every vertex under the screen. Built for the fitted volume it shows."""
+    them spends many vertices under the screen. Built for the fitted volume more show."""
     pose = LOW_SHOTS[wind]
     camera, fitted = check_pose(pose)
     full = Extent.true_bounds(pose.height_field(), pose.time)
     _, bounded = pose.build(extent=full)
     assert fitted.fitted and fitted.extent.upper < 0.5 * full.upper
-    assert fitted.efficiency > max(0.3, 1.4 * bounded.efficiency), (bounded.efficiency,
-                                                                    fitted.efficiency)
+    assert fitted.efficiency > max(0.75, 1.15 * bounded.efficiency), (bounded.efficiency,
+                                                                      fitted.efficiency)
 
 
 @pytest.mark.parametrize("wind", LOW_SHOTS)
 def test_the_projector_stands_back_from_a_sea_reaching_under_the_camera(wind, monkeypatch):
     """Built for the true bounds, V_visible reaches under a low camera; a projector right above
-    the camera would spend nearly all its rows there."""
+    the camera would spend most of its span there. Its columns and rows follow the camera's
+    screen (Projector.spacing), so even then more than a third of the vertices show; standing
+    back shows more, and three fifths of them."""
     pose = LOW_SHOTS[wind]
     full = Extent.true_bounds(pose.height_field(), pose.time)
     _, back = check_pose(pose, extent=full)
     monkeypatch.setattr(projector, "_standing_back", lambda *args: 0.0)
     _, above = check_pose(pose, extent=full)
-    assert above.efficiency < 0.05 and back.efficiency > 0.15, (above.efficiency,
-                                                                back.efficiency)
+    assert back.efficiency > max(0.6, above.efficiency) and above.efficiency > 0.33, (
+        above.efficiency, back.efficiency)
 
 
 def test_no_standing_back_for_a_camera_upside_down_past_straight_down():
