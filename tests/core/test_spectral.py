@@ -227,7 +227,7 @@ def test_a_grid_samples_long_bands_every_other_vertex():
     eye = np.array([0.0, 0.0, 10.0])
     cam = (look_at(eye, eye + (np.cos(0.4), np.sin(0.4), -0.14)),
            perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
-    result = build_grid(cam, source, time=6.0, resolution=(257, 257))
+    result = build_grid(cam, source, time=6.0, resolution=(513, 513))
     xy, lod = result.base, result.lod.reshape(result.base.shape[1:])
     coarse = source.sample(xy, 6.0, lod, cascade.GEOMETRY, on_grid=True)
     every = source.sample(xy, 6.0, lod, cascade.GEOMETRY)
