@@ -291,3 +291,22 @@ def test_contact_foam_of_boxes_beyond_the_points():
     assert not foam.contact_foam(x, y, np.zeros_like(x), far, 1.0).any()
     ringed = foam.contact_foam(x, y, np.zeros_like(x), [*far, unit + (4.0, 4.0, -0.5)], 1.0)
     assert ringed.max() == 1.0 and ringed.sum() > 4.0
+
+
+@pytest.mark.parametrize("force", [4, 8])
+def test_whitecaps_cover_their_share_at_every_grid_spacing(force):
+    """On grids 3 to 9 m apart (band limits between the calibrated ones, where a band fades in
+    and the cue's spread changes fastest), the whitecaps cover the calibrated share within
+    0.6-1.4x: with two calibrations per band's fade-in, a 6 m grid at force 4 covered a sixth."""
+    preset = sea_states.sea_state(force)
+    source = SpectralField(SeaState(wind_speed=preset.wind_speed, fetch=preset.fetch),
+                           choppiness=preset.choppiness, seed=2)
+    coverage = foam.foam_coverage(preset.wind_speed)
+    calibration = foam.calibration(source, 19.0, coverage, 16384)
+    for spacing in (3.0, 4.5, 6.0, 9.0):
+        n = int(480 / spacing)
+        xy = np.stack(np.meshgrid(np.arange(n) * spacing, np.arange(n) * spacing))
+        lod = np.full(xy.shape[1:], band_limit.lod_for_spacing(source.wave_scale, spacing),
+                      np.float32)
+        cover = foam.whitecaps(source.foam_cue(xy, 19.0, lod), lod, calibration).mean()
+        assert 0.6 * coverage <= cover <= 1.4 * coverage, (spacing, cover / coverage)
