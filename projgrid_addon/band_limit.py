@@ -12,8 +12,9 @@ The octaves some vertex dropped go to the shader as bump detail (`shader_octaves
 the same per-vertex lod, so the surface keeps its detail across the hand-over (§3.1.3).
 
 The spacing at a vertex is the larger grid step of the projector's homography there; it is
-exact per row along u and per column along v up to the w of the vertex (`grid_steps`), so a
-frame needs no per-vertex square roots or logarithms (`lod_from_w`, with `pseudo_log2`).
+exact per row along u and per column along v up to the w of the vertex and the columns' and
+rows' own spacing (`grid_steps`; Projector.spacing), so a frame needs no per-vertex square
+roots or logarithms (`lod_from_w`, with `pseudo_log2`).
 """
 
 import numpy as np
@@ -145,12 +146,12 @@ def pseudo_log2(ratio, out=None):
     return out
 
 
-def grid_steps(c, left, right, u, wave_scale, du=None, dv=None):
+def grid_steps(c, left, right, u, wave_scale, du, dv):
     """The grid's steps per row along u and per column along v, in units of wave_scale / 2, each
     still to be divided by w^2 at the vertex: (along_u (ny,), along_v (nx,), scale, du, dv),
     the step along u at a column being along_u times du there and along v at a row along_v
     times dv (`du`, `dv`: each column's du/ds and row's dv/ds, their spacing against an even
-    one; None: even).
+    one).
 
     For p = h / w with h affine along a row, dp/du = (D_xy left_w - left_xy D_w) / w^2 with
     D = right - left: a per-row vector over w^2, and likewise per column along v. `c` are the
@@ -173,13 +174,10 @@ def lod_from_w(steps, rows, hw, out):
     (float32): log2 of w^2 over the larger step; `steps` from `grid_steps`."""
     along_u, along_v, scale, du, dv = steps
     step = scratch("step", hw.shape, np.float64)
-    if dv is None:
-        np.maximum(along_u[rows, None], along_v[None, :], out=step)
-    else:
-        across = scratch("across", hw.shape, np.float64)
-        np.multiply(along_u[rows, None], du[None, :], out=across)
-        np.multiply(along_v[None, :], dv[rows, None], out=step)
-        np.maximum(across, step, out=step)
+    across = scratch("across", hw.shape, np.float64)
+    np.multiply(along_u[rows, None], du[None, :], out=across)
+    np.multiply(along_v[None, :], dv[rows, None], out=step)
+    np.maximum(across, step, out=step)
     step *= scale
     ratio = scratch("ratio", hw.shape, np.float64)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

@@ -5,7 +5,7 @@
   2. V_visible = V_cam ∩ V_displaceable        -> visible_volume_points; none: not visible, stop
   3. aim the projector                        -> projector.aim_projector (§2.4.1, §2.5)
   4. range matrix from V_visible              -> Projector.with_range (§2.4.2)
-  5. grid over [0, 1]^2, uv = (u, v)           -> grid_uv / grid_topology
+  5. grid over [0, 1]^2, columns and rows     -> Projector.spacing, grid_uv / grid_topology
   6. corners on S_base, interpolate the rest   -> Projector.corner_points (App. A), bilinear, /w
   7. displace by f_HF, band-limited           -> HeightField.heights (§1.6, §3.2)
   then normals from the grid neighbours (§3.1.1 step 4) and vertex efficiency (§4.1).
