@@ -13,6 +13,17 @@ from .blender_bench import projected_scene
 from .core_bench import interleaved
 
 
+def _timed(handler):
+    """`handler` wrapped to record the seconds each call spends in it: (wrapper, the list)."""
+    spent = []
+
+    def timed(scene, depsgraph):
+        start = time.perf_counter()
+        handler(scene, depsgraph)
+        spent.append(time.perf_counter() - start)
+    return timed, spent
+
+
 def scene_update_cost(counts=(0, 1000, 10000), repeats=7):
     """Viewport cost of a depsgraph update in a scene of `count` small objects scattered around
     the ocean (the effects at AUTO look at them): the whole update with our handler and without
@@ -22,12 +33,7 @@ def scene_update_cost(counts=(0, 1000, 10000), repeats=7):
     the ocean: only that object's box is read again)."""
     handlers = importlib.import_module(MODULE + ".operators.bridge.handlers")
     ours_handler = handlers.depsgraph_update_post
-    spent = []
-
-    def timed(scene, depsgraph):
-        start = time.perf_counter()
-        ours_handler(scene, depsgraph)
-        spent.append(time.perf_counter() - start)
+    timed, spent = _timed(ours_handler)
 
     rows = []
     rng = np.random.default_rng(3)
@@ -95,12 +101,7 @@ def moving_objects_cost(counts=(0, 2000), repeats=7):
     handler."""
     handlers = importlib.import_module(MODULE + ".operators.bridge.handlers")
     ours_frame = handlers.frame_change_post
-    spent = []
-
-    def timed(scene, depsgraph):
-        start = time.perf_counter()
-        ours_frame(scene, depsgraph)
-        spent.append(time.perf_counter() - start)
+    timed, spent = _timed(ours_frame)
 
     post = bpy.app.handlers.frame_change_post
     ours = [(post, timed), (bpy.app.handlers.depsgraph_update_post,
