@@ -11,6 +11,7 @@ import weakref
 
 import numpy as np
 
+from . import residual_foam
 from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
@@ -40,6 +41,9 @@ def sea_sample(span, samples=4096):
     k = (np.arange(n) + 0.5) / n
     gx, gy = np.meshgrid(k, k)
     return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
+
+
+PAST_SAMPLES = 4096  # sea points the residual foam's past thresholds are calibrated on
 
 
 def foam_thresholds(source, time, coverage, samples=16384, kept=None):
@@ -79,7 +83,9 @@ class Calibrations:
     oldest made dropped first. Thread-safe: a calibration being made elsewhere (`reserve`d,
     the Blender layer's worker) is waited for, not made twice."""
 
-    KEPT = 4  # the frame's two and two ahead
+    # The frame's two and two ahead, and those of the residual foam's past samples (at most
+    # WINDOW times the longest decay time, residual_foam).
+    KEPT = 4 + int(np.ceil(residual_foam.WINDOW * residual_foam.DECAY_RANGE[1] / FOAM_PERIOD))
 
     def __init__(self):
         self._made = weakref.WeakKeyDictionary()  # source -> {key: calibration}
@@ -145,7 +151,7 @@ def calibration(source, time, coverage, samples):
     levels = np.asarray(source.foam_levels(), dtype=np.float64)
     cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32)) for level in levels]
     spreads = np.array([float(cue.std()) for cue in cues])
-    placed = np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1])
+    placed = whitecap_level(source)
     whole = float(np.interp(placed, levels, spreads))
     widths = _ramp_widths(spreads, whole)
     thresholds = []
@@ -157,6 +163,15 @@ def calibration(source, time, coverage, samples):
         else:  # the threshold whose foam, ramp and all, covers `coverage` of the pattern
             thresholds.append(_covering(cue, coverage, width))
     return levels, np.array(thresholds), widths
+
+
+def whitecap_level(source):
+    """The band limit from which the waves whitecaps break on (longer than WHITECAP_WAVE) are
+    whole, within the calibrated levels: vertices finer than that take their cue there, so
+    a whitecap is a patch as large as its breaker, not the shorter waves' folds; their foam
+    is the shader's grain."""
+    levels = source.foam_levels()
+    return float(np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1]))
 
 
 def _ramp_widths(spreads, placed):
@@ -201,8 +216,55 @@ def whitecaps(cue, lod, calibration):
 
 
 def foam_coverage(wind_speed):
-    """The share of the sea the whitecaps are calibrated to cover at `wind_speed`."""
+    """The share of the sea whitecaps cover at `wind_speed`, active and residual together."""
     return min(max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE), 1.0)
+
+
+def active_coverage(source, wind_speed):
+    """The share of the sea the active whitecaps (stage A) are calibrated to cover: the
+    coverage's active part (residual_foam.active_share), the rest their residual foam's."""
+    return foam_coverage(wind_speed) * residual_foam.active_share(
+        residual_foam.decay_time(source))
+
+
+# m/s: the winds over which the aged foam's streaks draw out along the wind, from round
+# patches (Beaufort 6's 10.8-13.8 m/s: "white foam crests everywhere") to STREAK_MOST times
+# longer than wide (Beaufort 8, from 17.2 m/s: "foam blown in well-marked streaks"; WMO), and
+# gather more of the residual foam (`streak_share`).
+STREAK_WINDS = (12.0, 17.5)
+STREAK_MOST = 6.0
+STREAK_SHARE_MOST = 0.6
+
+
+def _streak_ramp(wind_speed):
+    """0 to 1 over STREAK_WINDS."""
+    return min(max((float(wind_speed) - STREAK_WINDS[0]) / (STREAK_WINDS[1] - STREAK_WINDS[0]),
+                   0.0), 1.0)
+
+
+def foam_streak(wind_speed):
+    """How many times longer along the wind than across it the aged foam's streaks are."""
+    return 1.0 + (STREAK_MOST - 1.0) * _streak_ramp(wind_speed)
+
+
+def streak_share(wind_speed):
+    """The share of the residual foam drawn as streaks, not where it fell: the aged foam
+    (residual_foam.aged_share), and from STREAK_WINDS[0] up, as the streaks draw out, up to
+    STREAK_SHARE_MOST of the young foam's too (WMO: streaks from Beaufort 7, well marked at
+    8, dense at 9, the sea white with them at 10), within Monahan's whitecap coverage."""
+    aged = residual_foam.aged_share()
+    return aged + (1.0 - aged) * STREAK_SHARE_MOST * _streak_ramp(wind_speed)
+
+
+def foam_look(source, wind_speed):
+    """The water group's foam inputs (water_model.values): the mean share of the sea the
+    active whitecaps cover (`active_coverage`); of the rest, their residual foam, the young
+    foam's placed at the points and the aged foam's drawn in streaks
+    (`streak_share`); and the streaks' stretch along the wind (`foam_streak`)."""
+    active = active_coverage(source, wind_speed)
+    residual = foam_coverage(wind_speed) - active
+    aged = residual * streak_share(wind_speed)
+    return active, residual - aged, aged, foam_streak(wind_speed)
 
 
 def contact_foam(x, y, z, boxes, width):
@@ -273,21 +335,43 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
+def _grid_key(result):
+    """Bytes naming a frame's grid points (what they are a function of: the projector, its
+    span, the columns and rows, the origin), or None for a grid without a projector."""
+    projector = getattr(result, "projector", None)
+    if projector is None or getattr(result, "spacing", None) is None:
+        return None
+    return b"".join(np.ascontiguousarray(a, np.float64).tobytes() for a in (
+        projector.view, projector.span, *result.spacing, result.origin, result.extent.lower,
+        result.extent.upper, result.extent.side, result.resolution))
+
+
 def foam_field(source, result, time, wind_speed, crests, boxes, level):
-    """Per-vertex foam of a frame in [0, 1], or None with neither kind on: whitecaps (when
-    `crests`) covering the wind's share of the sea (`whitecaps`), and rings around the `boxes`
-    crossing the water (contact foam), combined by their maximum. `result` is the frame's
+    """Per-vertex foam of a frame in [0, 1]: (active, residual), either None when off. Active:
+    whitecaps breaking now (when `crests`; `whitecaps`, stage A) and rings around the `boxes`
+    crossing the water (contact foam), combined by their maximum; residual: the patches the
+    whitecaps of the past seconds left (residual_foam, stage B). `result` is the frame's
     GridResult: the cue is taken at its grid points before any choppy displacement, and from
     the grid itself where the source asks for it (the spectrum's folding)."""
-    foam = None
+    foam = residual = None
     surface = result.surface
     if crests:
-        calibration = foam_thresholds(source, time, foam_coverage(wind_speed))
+        coverage = active_coverage(source, wind_speed)
         xy = result.base if result.base is not None else np.stack(surface[:2])
-        lod = result.lod.reshape(xy.shape[1:])
-        foam = whitecaps(source.foam_cue(xy, time, lod, grid=surface[:2]), lod, calibration)
+        lods = result.lod.reshape(xy.shape[1:])
+        placed = whitecap_level(source)
+        lod = np.minimum(lods, np.float32(placed))  # finer: the cue without shorter waves
+        cue = (residual_foam.cue_at(source, xy, time, lod) if lods.max() > placed
+               else source.foam_cue(xy, time, lod, grid=surface[:2]))
+        foam = whitecaps(cue, lod, foam_thresholds(source, time, coverage))
+
+        def past(cue, at, when):  # the past's thresholds from fewer points: summed, not seen
+            return whitecaps(cue, at, foam_thresholds(source, when, coverage, PAST_SAMPLES))
+        residual = residual_foam.residual(
+            source, xy, lods, time, past, residual_foam.decay_time(source), _grid_key(result),
+            (1.0 - streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))
         foam = ring if foam is None else np.maximum(foam, ring)
-    return foam
+    return foam, residual

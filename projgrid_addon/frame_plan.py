@@ -110,7 +110,8 @@ class FramePlan:
     decisions: dict  # {effect: (on, reason)}
     on: dict  # {effect: on}
     bound: float  # the sea's displacement bound now
-    whitecaps: np.ndarray | None  # per-vertex foam
+    whitecaps: np.ndarray | None  # per-vertex foam: active whitecaps and contact foam
+    residual: np.ndarray | None  # per-vertex residual foam (residual_foam.py)
     caustics: np.ndarray | None  # per-vertex caustic shadow transparency less the flat water's
     godrays: tuple | None  # (tile, lookup) for the water body's material
     detail: shading.Detail
@@ -120,7 +121,7 @@ class FramePlan:
     absorption: tuple  # per metre, RGB
     light: tuple  # the light on the sea against DAYLIGHT, RGB
     drift: tuple  # the gusts' drift along X, Y and its path: (per frame, offset) each
-    coverage: float  # the whitecaps' share of the sea (0: foam off)
+    foam_look: tuple | None  # the water group's foam inputs (foam.foam_look; None: foam off)
     warning: str | None
     ms: float  # the time planning took
 
@@ -145,8 +146,8 @@ def plan(inputs):
     on = {e: d[0] for e, d in decisions.items()}
     visible = result.visible
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
-    whitecaps = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes, level)
-                 if visible else None)
+    whitecaps, residual = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes,
+                                           level) if visible else (None, None))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
     layer = None
@@ -158,13 +159,13 @@ def plan(inputs):
                               inputs.sky_strength, DAYLIGHT, DAYLIGHT_SUN)
     return FramePlan(
         camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=bound,
-        whitecaps=whitecaps, caustics=caustics, godrays=godrays,
+        whitecaps=whitecaps, residual=residual, caustics=caustics, godrays=godrays,
         detail=hf.shader_detail(*result.shader_octaves), ripple=hf.ripple()[0],
         filtering=shading.filtering(cam.proj, inputs.render_width, hf.slopes, s.wind_speed,
                                     s.gusts),
         layer=layer, absorption=optics.absorption(s.clarity), light=light,
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
-        coverage=effects.whitecap_coverage(s.wind_speed) if on["foam"] else 0.0,
+        foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None,
         warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3)
 
 

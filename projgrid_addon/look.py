@@ -23,7 +23,12 @@ FOAM_RANK = (1.522, 0.0963)
 # leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
 # nought, everything at one, and the mean is the share (water_model.grain_cover).
 FOAM_EDGE = 0.5
-FOAM_STREAK = 4.0  # and this many times more across it
+FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a little drawn out
+# The young residual foam's noise, features per metre (round rafts of foam, shrinking), and
+# the aged foam's streak noise (the geometric mean of along and across the wind: Foam Streak
+# times longer along than across); both the grain's fractal.
+FOAM_LACE, FOAM_AGED = 0.25, 0.1
+FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 # Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and
 # the ripples answer it within seconds. Their slope variance is scaled by max(1 + Gust
@@ -43,6 +48,12 @@ DAYLIGHT = (1.2865, 1.7202, 2.7205)
 # Of it, the sun lamp's (white).
 DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
+# Residual foam (stage B) against active: it reflects less as its bubbles thin (Koepke 1984:
+# 0.22 over a whitecap's life against ~0.5 fresh); drawn much dimmer it reads as grey haze.
+RESIDUAL_BRIGHTNESS = 0.85
+# Aged foam (streaks) is a thin film over the water: drawn at this share of a full cover, over
+# as much more of the sea (its reflectance against fresh foam's, Koepke 1984).
+AGED_FILM = 0.5
 
 
 def body_volume(absorption, water_colour):

@@ -28,6 +28,7 @@ seed alone, so frame N is the same computed alone or after 1..N-1, on any machin
 """
 
 import copy
+from collections import OrderedDict
 from functools import cached_property
 
 import numpy as np
@@ -66,14 +67,14 @@ from .tiles import Lookup
 from .validation import finite, integer, non_negative
 from .warp import Warp
 
+MOMENTS = 12  # times whose tiles a source keeps (`SpectralField._at`)
+
 
 class SpectralField:
     """A sea from its spectrum, sampled at world points: heights and choppy displacements.
-
     Time is an argument of every read: `bounds(t)` are true bounds of what is sampled at t
-    (bilinear samples never exceed their tile's extremes); the tiles' fields of the last time
-    read are kept as a cache keyed by that time, not as state a reader must set up.
-    """
+    (bilinear samples never exceed their tile's extremes); the tiles' fields of the last times
+    read are kept as a cache keyed by the time, not as state a reader must set up."""
 
     def __init__(self, state, choppiness=0.0, seed=0, texels=TEXELS, wind_span=None):
         """`wind_span`: (least, most) wind speed a shot's keyframed wind takes; the tiles are
@@ -96,7 +97,7 @@ class SpectralField:
         # `displacement` then does not apply.
         self.fold = self.choppiness if self.choppiness > 0.0 else 1.0
         self.warp = Warp(self.seed)
-        self._moment = None  # (t, per-cascade fields, bound, side, fields made): `_at`'s cache
+        self._moments = OrderedDict()  # t: (t, per-cascade fields, bound, side, fields made)
         # The shader's stand-in noise draws the bands the geometry leaves out, the swell's
         # core with its band (where the geometry drops it, nothing else draws it).
         self._shares = shares[:BANDS]
@@ -111,7 +112,7 @@ class SpectralField:
         shared (read only but for caches of what is a pure function of the settings), its
         cache of a time's fields its own."""
         other = copy.copy(self)
-        other._moment = None
+        other._moments = OrderedDict()
         return other
 
     @cached_property
@@ -234,14 +235,20 @@ class SpectralField:
     def _at(self, t, fields=GEOMETRY):
         """The tiles' fields at time t, with their bounds: (t, per-cascade {field: texture},
         bound, side, fields made). Made once per time, each field when first asked for (without
-        choppiness, the displacement only when the foam asks for it)."""
+        choppiness, the displacement only when the foam asks for it); the last MOMENTS times
+        are kept (the residual foam reads a few past ones each frame)."""
         t = finite("time", t)
-        if self._moment is None or self._moment[0] != t:
+        moment = self._moments.get(t)
+        if moment is None:
             first = GEOMETRY if self.choppiness > 0.0 else (0,)
             made = each(lambda c: c.fields(t, self.fold, first), self.cascades)
-            self._moment = (t, [m[0] for m in made], sum(m[1] for m in made),
-                            sum(m[2] for m in made), set(first))
-        moment = self._moment
+            moment = (t, [m[0] for m in made], sum(m[1] for m in made),
+                      sum(m[2] for m in made), set(first))
+            self._moments[t] = moment
+            while len(self._moments) > MOMENTS:
+                self._moments.popitem(last=False)
+        else:
+            self._moments.move_to_end(t)
         missing = set(fields) - moment[4]
         if missing:
             made = each(lambda c: c.fields(t, self.fold, missing)[0], self.cascades)

@@ -12,14 +12,18 @@ greater (1 or 0), mix(t, a, b) = a + t (b - a), cos and sin, as Blender's Math n
 import math
 
 from .look import (
+    AGED_FILM,
+    FOAM_AGED,
     FOAM_COLOUR,
     FOAM_EDGE,
     FOAM_GRAIN,
     FOAM_GRAIN_STD,
+    FOAM_LACE,
     FOAM_RANK,
     FOAM_STREAK,
     GUST_FAC_STD,
     GUST_SCALE,
+    RESIDUAL_BRIGHTNESS,
     WATER_COLOUR,
     WHITECAP,
 )
@@ -48,7 +52,13 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Gust Amplitude", "NodeSocketFloat", 0.0),  # shading.Filtering.gust
     ("Gust Norm", "NodeSocketFloat", 1.0),  # shading.Filtering.gust_norm
     ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
-    ("Foam Coverage", "NodeSocketFloat", 0.0),  # the share of the sea whitecaps cover
+    # The share of the sea the active whitecaps cover, their young residual foam's and their
+    # aged foam's, and how much longer along the wind than across the residual's lace and
+    # streaks are (foam.foam_look).
+    ("Foam Coverage", "NodeSocketFloat", 0.0),
+    ("Residual Coverage", "NodeSocketFloat", 0.0),
+    ("Aged Coverage", "NodeSocketFloat", 0.0),
+    ("Foam Streak", "NodeSocketFloat", 1.0),
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
     ("Cos Floor", "NodeSocketFloat", 0.1),
@@ -80,13 +90,14 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
 DEFAULTS = {name: default for name, _, default in INPUTS}
 
 
-def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam_coverage=0.0,
-           layer=()):
+def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, layer=()):
     """The group's float inputs for a frame: the filtering of the waves too short to draw
     (shading.Filtering), the left-out octaves and the ripples (shading.Detail; None: the
-    defaults), the wind's direction (radians) and the whitecaps' share, and the slope layer's
-    bands ((level, top log, bottom log) each; those missing draw nothing)."""
+    defaults), the wind's direction (radians), the foam's (active, residual and aged shares,
+    streak: foam.foam_look; None: no foam), and the slope layer's bands ((level, top log,
+    bottom log) each; those missing draw nothing)."""
     f = filtering
+    foam = (0.0, 0.0, 0.0, 1.0) if foam is None else foam
     out = {
         "Pixel Log": f.pixel_log, "Distance Power": f.distance_power, "Cos Floor": f.cos_floor,
         "Slope Floor": f.floor, "Ripple Slopes": f.ripple, "Slope Density": f.density,
@@ -96,7 +107,8 @@ def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam_coverag
         "Sun Reach": f.sun_reach, "Left Out Log": f.left_out_log,
         "Layer Top Log": f.layer_top_log, "Layer Density": f.layer_density,
         "Gust Amplitude": f.gust, "Gust Norm": f.gust_norm,
-        "Wind Direction": wind_direction, "Foam Coverage": foam_coverage}
+        "Wind Direction": wind_direction, "Foam Coverage": foam[0],
+        "Residual Coverage": foam[1], "Aged Coverage": foam[2], "Foam Streak": foam[3]}
     if detail is not None:
         out.update({"Detail First Octave": detail.first, "Detail Scale": detail.scale,
                     "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,
@@ -237,16 +249,34 @@ def grain_cover(m, rank, share):
     return m.clamp((rank - 1.0 + share) / edge + 0.5) * m.greater(share, 0.0)
 
 
-def foam_cover(m, i, vertex_share, fac, footprint_, log_cos):
-    """The foam drawn at a point (the Foam mix's factor) where the vertices carry foam
-    `vertex_share` and the grain noise is `fac`: the grain's top ranks cover the share
-    (`grain_cover`); where the pixel's footprint along the view outgrows a WHITECAP the share
-    is the sea's mean Foam Coverage (per-vertex foam on a grid that moves with the camera would
-    pop), if whitecaps are called for (not contact foam alone). The grain is drawn while the
-    pixel's area (its length along the view times sqrt(cos)) holds few of its patches, so far
-    whitecaps stay specks, not a veil; past that the share itself, the grain's mean."""
+def grain_shown(m, scale, footprint_, log_cos):
+    """How much a noise of `scale` features per metre (geometric mean over its axes) is drawn:
+    while the pixel's area (its length along the view times sqrt(cos)) holds few of its
+    patches, so far foam stays specks, not a veil; past that its mean."""
+    return m.clamp((-math.log(scale) - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
+
+
+def foam_cover(m, i, active, residual, fac, lace, streak, footprint_, log_cos):
+    """The foam drawn at a point: (the Foam mix's factor, its brightness against fresh foam).
+    The vertices carry the active whitecaps' share `active` (stage A) and their young residual
+    foam's `residual` (stage B, residual_foam.py). The top ranks of the grain noise (Fac `fac`)
+    cover the first (`grain_cover`), the lace noise's (Fac `lace`: larger patches, churning
+    slower) the second, and the streak noise's (Fac `streak`, Foam Streak times longer along the
+    wind than across) the aged foam (Aged Coverage, over the whole sea) as streaks, its top
+    ranks, a film of AGED_FILM: the residual over what the active leaves, at
+    RESIDUAL_BRIGHTNESS. Where the pixel's footprint
+    along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
+    foam on a grid that moves with the camera would pop), if whitecaps are called for (not
+    contact foam alone); each noise is drawn while `grain_shown`, past that its share."""
     whole = m.clamp((footprint_ - math.log(WHITECAP)) / LN2) * m.greater(i["Foam Coverage"], 0.0)
-    share = m.mix(whole, vertex_share, i["Foam Coverage"])
-    shown = m.clamp((-math.log(FOAM_GRAIN * math.sqrt(FOAM_STREAK))
-                     - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
-    return m.mix(shown, share, grain_cover(m, grain_rank(m, fac), share))
+    a = m.mix(whole, active, i["Foam Coverage"])
+    r = m.mix(whole, residual, i["Residual Coverage"])
+    aged = i["Aged Coverage"] / AGED_FILM
+    a = m.mix(grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), footprint_, log_cos), a,
+              grain_cover(m, grain_rank(m, fac), a))
+    r = m.mix(grain_shown(m, FOAM_LACE, footprint_, log_cos), r,
+              grain_cover(m, grain_rank(m, lace), r))
+    r = r + (1.0 - r) * AGED_FILM * m.mix(grain_shown(m, FOAM_AGED, footprint_, log_cos),
+                                          aged, grain_cover(m, grain_rank(m, streak), aged))
+    cover = a + (1.0 - a) * r
+    return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

@@ -41,9 +41,12 @@ import bpy
 from ..projgrid_addon import water_model as model
 from ..projgrid_addon.look import (
     DAYLIGHT,
+    FOAM_AGED,
     FOAM_CHURN,
     FOAM_DETAIL,
     FOAM_GRAIN,
+    FOAM_LACE,
+    FOAM_LACE_CHURN,
     FOAM_ROUGHNESS,
     FOAM_STREAK,
     GUST_DETAIL,
@@ -59,10 +62,11 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 24  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 27  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
+RESIDUAL_ATTRIBUTE = "projgrid_foam_residual"  # and the residual foam's (residual_foam.py)
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
 # (absent, the attribute reads 0: the flat water's shadow).
 CAUSTIC_ATTRIBUTE = "projgrid_caustics"
@@ -191,29 +195,35 @@ def _build(group):
                                                 2: window.outputs[0]})
     result = g.node("ShaderNodeMixShader", {0: fresnel, 1: refraction.outputs[0],
                                             2: reflection.outputs[0]})
-    # Foam (Jensen and Golias; model.foam_cover): a rough white cover where the crests carry
-    # it, drawn by the top ranks of a grain noise FOAM_STREAK times finer across the wind than
-    # along it: the wind draws foam out into streaks.
-    wind = g.node("ShaderNodeCombineXYZ", {"X": g.cos(i["Wind Direction"]),
-                                           "Y": g.sin(i["Wind Direction"])}).outputs[0]
-    across = g.node("ShaderNodeCombineXYZ", {
-        "X": g.sin(i["Wind Direction"]) * -FOAM_STREAK,
-        "Y": g.cos(i["Wind Direction"]) * FOAM_STREAK}).outputs[0]
-    streaked = g.node("ShaderNodeCombineXYZ", {
-        "X": g.vector("DOT_PRODUCT", geo["Position"], wind),
-        "Y": g.vector("DOT_PRODUCT", geo["Position"], across)}).outputs[0]
-    grain = g.node("ShaderNodeTexNoise", {
-        "Vector": streaked, "W": i["Detail Time"] * (FOAM_CHURN / FOAM_GRAIN),
-        "Scale": FOAM_GRAIN, "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
-        noise_dimensions="4D")
-    vertex_foam = g.node("ShaderNodeAttribute", attribute_name=FOAM_ATTRIBUTE).outputs["Fac"]
-    foam = model.foam_cover(g, i, g.value(vertex_foam), g.value(grain.outputs["Fac"]),
-                            footprint, log_cos)
+    # Foam (Jensen and Golias; Monahan and Lu's stages; model.foam_cover): a rough white
+    # cover where the crests carry it, the active whitecaps drawn by the top ranks of a grain
+    # noise, their young residual foam as the lace of a noise the wind draws out, the aged
+    # foam as streaks of its top ranks.
+    cos_w, sin_w = g.cos(i["Wind Direction"]), g.sin(i["Wind Direction"])
+    stretch = g.sqrt(i["Foam Streak"])
+
+    def noise(scale, along, across, churn):
+        aligned = g.node("ShaderNodeCombineXYZ", {
+            "X": g.vector("DOT_PRODUCT", geo["Position"], g.node("ShaderNodeCombineXYZ", {
+                "X": cos_w * along, "Y": sin_w * along}).outputs[0]),
+            "Y": g.vector("DOT_PRODUCT", geo["Position"], g.node("ShaderNodeCombineXYZ", {
+                "X": sin_w * -across, "Y": cos_w * across}).outputs[0])}).outputs[0]
+        return g.value(g.node("ShaderNodeTexNoise", {
+            "Vector": aligned, "W": i["Detail Time"] * (churn / scale), "Scale": scale,
+            "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
+            noise_dimensions="4D").outputs["Fac"])
+    active, residual = (g.value(g.node("ShaderNodeAttribute", attribute_name=name)
+                                .outputs["Fac"]) for name in (FOAM_ATTRIBUTE, RESIDUAL_ATTRIBUTE))
+    foam, brightness = model.foam_cover(
+        g, i, active, residual, noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN),
+        noise(FOAM_LACE, 1.0, 1.0, FOAM_LACE_CHURN),
+        noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN), footprint, log_cos)
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {
-        0: g.node("ShaderNodeBsdfDiffuse", {"Color": i["Foam Colour"],
-                                            "Normal": normal}).outputs[0],
+        0: g.node("ShaderNodeBsdfDiffuse", {
+            "Color": g.vector("SCALE", i["Foam Colour"], Scale=brightness),
+            "Normal": normal}).outputs[0],
         1: g.node("ShaderNodeBsdfGlossy", {"Color": (0.25, 0.25, 0.25, 1.0), "Roughness": 0.6,
                                            "Normal": normal}).outputs[0]})
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],

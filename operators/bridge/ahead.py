@@ -21,7 +21,8 @@ def calibrate(source, time, wind_speed):
     twin = getattr(source, "twin", None)
     if twin is None:
         return 0
-    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, foam.foam_coverage(wind_speed)))
+    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, foam.active_coverage(source,
+                                                                                  wind_speed)))
     _JOBS[:] = [job for job in _JOBS if not job.done()]
     for n, key in enumerate(keys):
         try:

@@ -54,7 +54,8 @@ def frame(read, plan, refusal=None):
         to_local = np.eye(3)
     res = inputs.resolution
     try:
-        arrays = mesh.grid_arrays(result, to_local, plan.whitecaps, plan.caustics)
+        arrays = mesh.grid_arrays(result, to_local, plan.whitecaps, plan.caustics,
+                                  plan.residual)
         mesh.write_arrays(surface.data, arrays)
     except (MemoryError, RuntimeError) as e:
         kind = "out of memory" if isinstance(e, MemoryError) else str(e)
@@ -93,7 +94,7 @@ def _write_materials(read, plan, surface, in_use):
         material_inputs.update(
             material, in_use, plan.detail, plan.detail.time_rate * per_frame,
             plan.ripple, plan.ripple.time_rate * per_frame, plan.filtering, s.water_colour,
-            s.foam_colour, s.wind_direction, plan.coverage,
+            s.foam_colour, s.wind_direction, plan.foam_look,
             plan.layer[2] if plan.layer is not None else (),
             inputs.facts.sun_direction, plan.drift)
         if plan.layer is not None:

@@ -157,17 +157,17 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam_coverage=0.0, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3):
+           foam=None, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
     included), so an animation writes nothing per frame; the filtering of the waves too short
     to draw (shading.Filtering); the ocean's look (linear RGB colours); the wind's direction
-    (radians), which streaks the foam, and the share of the sea its whitecaps cover, shown
-    where a pixel outgrows a whitecap; the slope layer's bands ((level, top log, bottom log)
-    each; none: no layer); the unit vector toward the sun lamp (None: no sun, no glint); the
-    gusts' drift along X, along Y and its path (m), each (per frame, offset) for a driver like
-    the times'."""
+    (radians), which streaks the foam, and the foam's shares and streak (foam.foam_look; None:
+    no foam), its shares shown where a pixel outgrows a whitecap; the slope layer's bands
+    ((level, top log, bottom log) each; none: no layer); the unit vector toward the sun lamp
+    (None: no sun, no glint); the gusts' drift along X, along Y and its path (m), each (per
+    frame, offset) for a driver like the times'."""
     node = mat.node_tree.nodes.get(water.GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -177,7 +177,7 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
             node.node_tree = tree = water.node_group()
         set_effects(tree, effects_on, water.EFFECT_NODES)
     inputs = node.inputs
-    values = water_model.values(filtering, detail, ripple, wind_direction, foam_coverage, layer)
+    values = water_model.values(filtering, detail, ripple, wind_direction, foam, layer)
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

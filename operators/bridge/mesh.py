@@ -51,7 +51,7 @@ def set_topology(mesh, nx, ny, flipped=False):
         mesh.attributes.new(water.LOD_ATTRIBUTE, "FLOAT", "POINT")
 
 
-def grid_arrays(result, to_local, foam, caustics):
+def grid_arrays(result, to_local, foam, caustics, residual=None):
     """What `write_arrays` writes of a GridResult: {name: array}, or None for an empty mesh
     (a bake keeps each frame's so, bake.py)."""
     if not result.visible:
@@ -62,7 +62,8 @@ def grid_arrays(result, to_local, foam, caustics):
     arrays = {"grid": np.array([*result.resolution, np.linalg.det(to_local) < 0.0]),
               "position": positions,
               water.LOD_ATTRIBUTE: np.minimum(result.lod, np.float32(64.0))}  # finite
-    for name, values in ((water.FOAM_ATTRIBUTE, foam), (water.CAUSTIC_ATTRIBUTE, caustics)):
+    for name, values in ((water.FOAM_ATTRIBUTE, foam), (water.CAUSTIC_ATTRIBUTE, caustics),
+                         (water.RESIDUAL_ATTRIBUTE, residual)):
         if values is not None:
             arrays[name] = values
     return arrays
@@ -82,7 +83,7 @@ def write_arrays(mesh, arrays):
         mesh.attributes["position"].data.foreach_set("vector", arrays["position"].ravel())
         mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set(
             "value", arrays[water.LOD_ATTRIBUTE])
-        for name in (water.FOAM_ATTRIBUTE, water.CAUSTIC_ATTRIBUTE):
+        for name in (water.FOAM_ATTRIBUTE, water.CAUSTIC_ATTRIBUTE, water.RESIDUAL_ATTRIBUTE):
             write_attribute(mesh, name, arrays.get(name))
         mesh.update()
         mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path

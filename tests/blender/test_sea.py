@@ -146,7 +146,7 @@ def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension
     scene.frame_set(30)  # 1.25 s at 24 fps: the calibrations of 2 s and 3 s are ahead
     bridge.ahead.finish()
     source = bridge.scene.height_field(sea.projgrid)
-    coverage = foam.foam_coverage(sea.projgrid.wind_speed)
+    coverage = foam.active_coverage(source, sea.projgrid.wind_speed)
     assert all(foam.CALIBRATIONS.has(source, (t, coverage, 16384)) for t in (1.0, 2.0, 3.0))
 
 

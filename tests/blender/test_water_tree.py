@@ -155,18 +155,25 @@ def test_the_tree_computes_the_model(water):
     values = group_values(node)
     assert values["Layer Density"] > 0.0 and values["Slope Density"] > 0.0  # not trivial
     assert values["Gust Amplitude"] > 0.1
-    values["Foam Coverage"] = 0.03
+    values.update({"Foam Coverage": 0.03, "Residual Coverage": 0.05, "Aged Coverage": 0.01,
+                   "Foam Streak": 3.0})
     glossy = find(tree, GLOSSY, Roughness=True)
     ripples_bump = find(tree, ("ShaderNodeBump",), Normal=True)
     tilt = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeVectorMath"
                 and n.operation == "MULTIPLY" and n.inputs[1].is_linked
                 and n.inputs[1].links[0].from_node.bl_idname == "ShaderNodeCombineXYZ")
     foam, fresnel = tree.nodes["Foam"].inputs[0], find(tree, ("NodeGroupOutput",)).inputs["Fresnel"]
+    foam_colour = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
+                       and n.inputs["Color"].is_linked and n.inputs["Color"].links[0]
+                       .from_node.bl_idname == "ShaderNodeVectorMath"
+                       and n.inputs["Color"].links[0].from_node.operation == "SCALE"
+                       ).inputs["Color"]
     seen = {"roughness": set(), "facets": set(), "gust": set(), "gain": set(), "foam": set()}
-    for (d, c, lod), sun, fac, share, band in zip(
+    for (d, c, lod), sun, fac, share, band, left in zip(
             CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
             itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
-            itertools.cycle((0.0, 0.01, 0.6)), itertools.cycle((1, 2, 3, 2, 1)), strict=False):
+            itertools.cycle((0.0, 0.01, 0.6)), itertools.cycle((1, 2, 3, 2, 1)),
+            itertools.cycle((0.0, 0.3, 0.0, 0.05)), strict=False):
         # the sun where the view's mirror is, `sun` radians above it, or no sun lamp
         s = math.sqrt(1.0 - c * c)
         toward = np.zeros(3) if sun is None else np.array(
@@ -174,7 +181,7 @@ def test_the_tree_computes_the_model(water):
         one = {**values, "Sun Direction": toward,
                **{f"Layer Slopes {k}": np.array([float(k == band), 0.0, 0.0]) for k in (1, 2, 3)}}
         flat = {**one, **{f"Layer Slopes {k}": np.zeros(3) for k in (1, 2, 3)}}
-        attributes = {"projgrid_foam": share}
+        attributes = {"projgrid_foam": share, "projgrid_foam_residual": left}
         ev = Evaluator(flat, lod, d, incoming(c), attributes=attributes, fac=fac)
         tilted = Evaluator(one, lod, d, incoming(c), attributes=attributes, fac=fac)
 
@@ -201,8 +208,11 @@ def test_the_tree_computes_the_model(water):
         gain = model.layer_gain(NUMPY, lod, one[f"Layer Level {band}"],
                                 one[f"Layer Top Log {band}"], one[f"Layer Bottom Log {band}"], lp)
         assert -tilted.output(tilt.outputs[0])[0] == pytest.approx(gain, rel=1e-5, abs=1e-7)
-        drawn = model.foam_cover(NUMPY, flat, share, fac, lp, log_cos)
+        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, fac, fac, fac, lp,
+                                             log_cos)
         assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
+        assert ev.input(foam_colour) == pytest.approx(values["Foam Colour"] * brightness,
+                                                      rel=1e-5)
         exact = model.fresnel(NUMPY, flat["IOR"], c, 0.0)
         assert ev.input(fresnel) == pytest.approx(
             model.mean_fresnel(NUMPY, exact, c, slopes, 0.0), rel=1e-5)
@@ -215,7 +225,8 @@ def test_the_tree_computes_the_model(water):
     assert min(seen["gust"]) < 1.0 - values["Gust Amplitude"] < 1.0 + values["Gust Amplitude"] \
         < max(seen["gust"])
     assert {0.0} < seen["gain"] and max(seen["gain"]) > 0.5
-    assert {0.0, 1.0, 0.03} <= seen["foam"], sorted(seen["foam"])
+    far = 0.03 + 0.97 * (0.05 + 0.95 * 0.01)
+    assert {0.0, 1.0, round(far, 4)} <= seen["foam"], sorted(seen["foam"])
 
 
 def fresnel_eq_1_4(n1, n2, cos_i):
@@ -278,26 +289,42 @@ def test_the_far_sea_s_roughness_is_cox_munk_s(water, extension):
 
 
 def test_the_foam_drawn_is_monahan_s_share(water, extension):
-    """The share of the sea the frame asks whitecaps to cover is Monahan and O'Muircheartaigh's
-    1.59e-5 U^2.55 (Fleck Eq. 32); a pixel longer than a whitecap draws that share, and near the
-    camera the grain's top ranks draw a vertex's share (over its ranks, evenly: the mean)."""
+    """The share of the sea the frame asks whitecaps and their residual foam to cover is Monahan
+    and O'Muircheartaigh's 1.59e-5 U^2.55 (Fleck Eq. 32); a pixel longer than a whitecap draws
+    that share (the residual's over what the active leaves), and near the camera the grain's
+    and the lace's top ranks draw a vertex's shares (over their ranks, evenly: the mean)."""
     node, core = water
     values = group_values(node)
     u = bpy.context.active_object.projgrid.wind_speed
-    assert values["Foam Coverage"] == pytest.approx(1.59e-5 * u**2.55, rel=1e-5)
+    active, residual, aged = (values[f"{k} Coverage"] for k in ("Foam", "Residual", "Aged"))
+    assert active + residual + aged == pytest.approx(1.59e-5 * u**2.55, rel=1e-5)
+    assert 0.0 < aged < active < residual
     mix = node.node_tree.nodes["Foam"].inputs[0]
     for share in (0.0, 0.3):
-        far = Evaluator(values, 0.0, 2e5, incoming(0.05), attributes={"projgrid_foam": share})
-        assert far.input(mix) == pytest.approx(values["Foam Coverage"], rel=1e-5)
+        far = Evaluator(values, 0.0, 2e5, incoming(0.05),
+                        attributes={"projgrid_foam": share, "projgrid_foam_residual": share})
+        left = residual + (1.0 - residual) * aged
+        assert far.input(mix) == pytest.approx(active + (1.0 - active) * left, rel=1e-5)
     look = core.look
     z = np.linspace(-12.0, 12.0, 20001)
     cdf = core.water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
     facs = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(400) + 0.5) / 400, cdf, z)
-    for share in (0.02, 0.3):
-        drawn = [Evaluator(values, 0.0, 3.0, incoming(1.0), attributes={"projgrid_foam": share},
+    young = {**values, "Aged Coverage": 0.0}
+    for share, stage in itertools.product((0.02, 0.3), ("projgrid_foam", "projgrid_foam_residual")):
+        drawn = [Evaluator(young, 0.0, 3.0, incoming(1.0),
+                           attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0,
+                                       stage: share},
                            fac=float(fac)).input(mix) for fac in facs]
-        assert np.mean(drawn) == pytest.approx(share, rel=0.02), share
+        assert np.mean(drawn) == pytest.approx(share, rel=0.02), (share, stage)
         assert max(drawn) == 1.0 and min(drawn) == 0.0  # a solid core, bare water around
+    # the aged foam, over the whole sea: a film of AGED_FILM over its share / AGED_FILM (a gale's
+    # share: the frame's is too small for the ranks sampled here)
+    aged = 0.02
+    streaks = [Evaluator({**values, "Aged Coverage": aged}, 0.0, 3.0, incoming(1.0),
+                         attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0},
+                         fac=float(fac)).input(mix) for fac in facs]
+    assert np.mean(streaks) == pytest.approx(aged, rel=0.02)
+    assert max(streaks) == pytest.approx(look.AGED_FILM) and min(streaks) == 0.0
 
 
 def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):

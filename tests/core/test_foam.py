@@ -2,6 +2,7 @@
 time and band limit, the shader's grain and the far sea's share."""
 
 import threading
+import types
 
 import numpy as np
 import pytest
@@ -12,12 +13,13 @@ from projgrid_addon import (
     band_limit,
     effects,
     foam,
+    residual_foam,
     sea_states,
     shading,
     water_model,
 )
 from projgrid_addon.camera import look_at, perspective
-from projgrid_addon.look import FOAM_GRAIN, FOAM_GRAIN_STD, FOAM_STREAK, WHITECAP
+from projgrid_addon.look import FOAM_GRAIN, FOAM_GRAIN_STD, FOAM_LACE, FOAM_STREAK, WHITECAP
 from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
@@ -120,8 +122,9 @@ def test_a_swell_brings_no_foam_to_the_far_sea():
 
 def test_a_gale_s_far_sea_is_as_white_as_its_whitecaps_cover():
     """Seen from 4 m up at a gale, the vertices far enough to hold no band of waves at all
-    (beyond some 400 m) still stand for a sea whitecaps cover Monahan's share of: their foam
-    is that share (a threshold for 'no wave' there left it white-free, 1 % of the share)."""
+    (beyond some 400 m) still stand for a sea whitecaps cover Monahan's share of: their foam,
+    active, residual and aged together, is that share within 10 % (a threshold for 'no wave'
+    there left it white-free, 1 % of the share)."""
     preset = sea_states.sea_state(8, np.pi / 2)
     state = SeaState(wind_speed=preset.wind_speed, wind_direction=np.pi / 2,
                      fetch=preset.fetch, swell_height=preset.swell_height,
@@ -133,10 +136,12 @@ def test_a_gale_s_far_sea_is_as_white_as_its_whitecaps_cover():
            perspective(np.radians(40.0), 16 / 9, 0.1, 1e5))
     result = build_grid(cam, source, time=5.0, resolution=(129, 257))
     want = effects.whitecap_coverage(preset.wind_speed)
-    cover = foam.foam_field(source, result, 5.0, preset.wind_speed, True, [], 0.0)
+    active, residual = foam.foam_field(source, result, 5.0, preset.wind_speed, True, [], 0.0)
+    cover = active + (1.0 - active) * residual
+    cover += (1.0 - cover) * foam.foam_look(source, preset.wind_speed)[2]
     bare = result.lod < source.first_level
     assert bare.sum() > 100
-    assert cover[bare] == pytest.approx(want, rel=0.05)
+    assert cover[bare] == pytest.approx(want, rel=0.1)
 
 
 def test_calibrations_are_kept_per_source_and_window_and_made_once():
@@ -187,26 +192,29 @@ def test_the_grain_covers_a_vertex_s_share(share):
 
 
 def test_far_whitecaps_stay_specks():
-    """From 4 m up, 150 m away a pixel is longer than the grain's patches (1.7 m: the water
-    group's) along the view but its area holds few: the foam drawn there is specks of whole
-    foam covering the share (water_model.foam_cover), not the share spread as a veil; at the
-    horizon, where a pixel is longer than a whitecap (8 m), the sea's mean share."""
+    """From 4 m up, 400 m away a pixel is longer than the grain's and the lace's patches (2.7 m
+    and 4 m: the water group's) along the view but its area holds few: the foam drawn there,
+    active or residual, is specks of whole foam covering the share (water_model.foam_cover),
+    not the share spread as a veil; at the horizon, where a pixel is longer than a whitecap
+    (8 m), the sea's mean shares, the residual over what the active leaves."""
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=15.0)).slopes, 15.0)
-    grain, coverage = 1.0 / (FOAM_GRAIN * np.sqrt(FOAM_STREAK)), 0.02
-    assert grain == pytest.approx(1.0 / 0.6) and WHITECAP == 8.0
+    patches = 1.0 / (FOAM_GRAIN * np.sqrt(FOAM_STREAK)), 1.0 / FOAM_LACE
+    assert patches == pytest.approx((2.72, 4.0), rel=0.01) and WHITECAP == 8.0
     fac = grain_facs(400_000, 3)
-    i = group_inputs(f, **{"Foam Coverage": coverage})
+    i = group_inputs(f, **{"Foam Coverage": 0.006, "Residual Coverage": 0.014})
 
-    def drawn(d, share):
+    def drawn(d, active, residual):
         lp, log_cos = water_model.footprint(NUMPY, i, d, 4.0 / d)
-        return water_model.foam_cover(NUMPY, i, share, fac, lp, log_cos)
-    assert np.exp(footprint_log(f, 150.0, 4.0 / 150.0)) > grain
-    near = drawn(150.0, 0.05)
-    assert near.mean() == pytest.approx(0.05, rel=0.05)
-    assert (near > 0.9).mean() > 0.5 * 0.05 and near.max() == 1.0
-    far = drawn(5000.0, 0.3)
-    assert far == pytest.approx(coverage)
+        return water_model.foam_cover(NUMPY, i, active, residual, fac, fac[::-1], fac, lp,
+                                      log_cos)[0]
+    assert np.exp(footprint_log(f, 400.0, 4.0 / 400.0)) > max(patches)
+    for active, residual in ((0.05, 0.0), (0.0, 0.05)):
+        near = drawn(400.0, active, residual)
+        assert near.mean() == pytest.approx(0.05, rel=0.05)
+        assert (near > 0.9).mean() > 0.5 * 0.05 and near.max() == 1.0
+    far = drawn(5000.0, 0.3, 0.3)
+    assert far == pytest.approx(0.006 + 0.994 * 0.014)
 
 
 def test_a_frame_s_foam_and_bounds_do_not_hang_on_earlier_frames():
@@ -228,8 +236,9 @@ def test_a_frame_s_foam_and_bounds_do_not_hang_on_earlier_frames():
     source = SpectralField(state, choppiness=1.0, seed=3)
     frame(source, 12.45)
     again, bound_again = frame(source, 12.5)
-    assert bound_again == bound and np.array_equal(again, cover)
-    assert cover.max() > 0.0  # foamed: not a comparison of nothing
+    assert bound_again == bound
+    assert all(np.array_equal(a, b) for a, b in zip(again, cover, strict=True))
+    assert cover[0].max() > 0.0 and cover[1].max() > 0.0  # foamed: not nothing compared
 
 
 def test_a_frame_s_folding_spreads_as_the_calibration_s():
@@ -310,3 +319,76 @@ def test_whitecaps_cover_their_share_at_every_grid_spacing(force):
                       np.float32)
         cover = foam.whitecaps(source.foam_cue(xy, 19.0, lod), lod, calibration).mean()
         assert 0.6 * coverage <= cover <= 1.4 * coverage, (spacing, cover / coverage)
+
+
+class _Flat:
+    """A source whose cue is nought everywhere (the active foam is given by hand)."""
+
+    choppiness = 0.0
+
+    def foam_cue(self, xy, time, lod=None, grid=None):
+        return np.zeros(xy.shape[1:])
+
+
+def _residual_after(event, tau, times):
+    """Residual foam at `times` of one point whose active foam is `event(when)`."""
+    xy = np.zeros((2, 1, 1))
+    return np.array([float(residual_foam.residual(
+        _Flat(), xy, None, t, lambda cue, lod, when: np.full(1, event(when), np.float32),
+        tau)[0])
+        for t in times])
+
+
+def test_residual_foam_decays_as_callaghan_s_patches():
+    """A breaker active for T_A leaves its patch whole (R = 1 as it stops) and the patch's
+    area then decays as e^(-age / tau) (Callaghan et al. 2012), continuously from frame to
+    frame; a sea whose active share is steady lays R = A tau / T_A, the window's part of it
+    placed (the rest, aged, is the shader's streaks); and tau grows with the breakers' length
+    within Callaghan's 0.5-8 s."""
+    tau, start = 2.0, 10.0
+    t_a = residual_foam.ACTIVE_TIME
+
+    def event(when):
+        return 1.0 if start <= when < start + t_a else 0.0
+    times = np.arange(start - 1.0, start + 6.0, 1.0 / 48.0)
+    r = _residual_after(event, tau, times)
+    assert r.max() == pytest.approx(1.0, abs=0.05) and r[times < start].max() == 0.0
+    # after the last sample of the breaker has ramped in, before the window's last step
+    # tapers the patch out
+    step = tau / residual_foam.SAMPLES_PER_DECAY
+    after = (times < start + residual_foam.WINDOW * tau - step) & (r < 0.95) & (
+        times > start + t_a + step)
+    assert after.sum() > 48  # a second of the decay
+    fitted = -1.0 / np.polyfit(times[after], np.log(r[after]), 1)[0]
+    assert fitted == pytest.approx(tau, rel=0.15), fitted
+    assert np.abs(np.diff(r)).max() < 0.1  # no jumps between frames
+    steady = _residual_after(lambda when: 0.01, tau, np.arange(20.0, 23.0, 0.1))
+    placed = 1.0 - residual_foam.aged_share()
+    assert 0.8 < placed < 0.9  # most of it placed where it fell
+    assert steady == pytest.approx(0.01 * tau / t_a * placed, rel=0.02)
+    taus = [residual_foam.decay_time(SpectralField(SeaState(wind_speed=u))) for u in (6.7, 19.0)]
+    assert 0.5 <= taus[0] < taus[1] <= 8.0, taus
+
+
+@pytest.mark.parametrize("force", [4, 6, 8, 10])
+def test_active_and_residual_foam_cover_monahan_s_share(force):
+    """Over a patch of sea (a 3 m grid, 480 m across), at several times, the whitecaps active now
+    and the foam they left over the past seconds (and the aged foam's streaks, over the whole
+    sea) cover together Monahan and O'Muircheartaigh's 1.59e-5 U^2.55 within 0.5-2x (the
+    issue's measure), the residual most of it."""
+    preset = sea_states.sea_state(force)
+    source = SpectralField(SeaState(wind_speed=preset.wind_speed, fetch=preset.fetch),
+                           choppiness=preset.choppiness, seed=2)
+    xy = np.stack(np.meshgrid(np.arange(160) * 3.0, np.arange(160) * 3.0))
+    lod = np.full(xy.shape[1:], band_limit.lod_for_spacing(source.wave_scale, 3.0), np.float32)
+    shares = []
+    for t in (20.0, 27.3, 34.9):
+        moved = xy + source.sample(xy, t, lod, (1, 2))
+        grid = types.SimpleNamespace(base=xy, surface=(moved[0], moved[1], None), lod=lod)
+        active, residual = foam.foam_field(source, grid, t, preset.wind_speed, True, [], 0.0)
+        shares.append((active.mean(), (active + (1.0 - active) * residual).mean()))
+    active, total = np.mean(shares, axis=0)
+    total += (1.0 - total) * foam.foam_look(source, preset.wind_speed)[2]
+    want = effects.whitecap_coverage(preset.wind_speed)
+    assert 0.5 * want <= total <= 2.0 * want, (force, active, total, want)
+    assert total > 2.0 * active

@@ -42,13 +42,17 @@ def test_a_plan_is_a_pure_function_of_its_inputs():
 
 
 def test_effects_off_plan_no_fields():
-    """Foam at a gale is whitecaps per vertex and the sea's share for the shader; off, neither
-    (and no slope layer for a material that is not ours)."""
+    """Foam at a gale is whitecaps and their residual foam per vertex and the sea's shares
+    for the shader, active and residual making Monahan's; off, neither (and no slope layer
+    for a material that is not ours)."""
     on = frame_plan.plan(inputs(foam="ON"))
-    assert on.on["foam"] and on.whitecaps.max() > 0.0
-    assert on.coverage == pytest.approx(effects.whitecap_coverage(12.0))
+    assert on.on["foam"] and on.whitecaps.max() > 0.0 and on.residual.max() > 0.0
+    active, residual, aged, _ = on.foam_look
+    assert 0.0 < aged < active < residual
+    assert active + residual + aged == pytest.approx(effects.whitecap_coverage(12.0))
     off = frame_plan.plan(inputs(**dict.fromkeys(effects.EFFECTS, "OFF")))
-    assert not any(off.on.values()) and off.coverage == 0.0 and off.caustics is None
+    assert not any(off.on.values()) and off.foam_look is None
+    assert off.caustics is None and off.residual is None
     assert off.godrays is None
     assert frame_plan.plan(replace(inputs(), our_material=False)).layer is None
 

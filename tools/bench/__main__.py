@@ -26,6 +26,7 @@ def main(quick=False, only=None):
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
     import bpy
 
+    from tools import beaufort
     from tools.demo import install
     from tools.package import build
 
@@ -63,7 +64,8 @@ def main(quick=False, only=None):
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
         ("flicker", lambda: render_bench.flicker(DOCS, frames=3 if quick else 4)),
-        ("pictures", lambda: pictures(quick)),  # last: it starts from empty files
+        ("beaufort", lambda: beaufort.shoot(DOCS, quick)),  # these two start from empty files
+        ("pictures", lambda: pictures(quick)),
     ]
     if only:  # re-measure some steps, keep the others from the last run
         with open(RESULTS) as f:

@@ -15,6 +15,7 @@ from .report_format import (
     _table,
 )
 from .report_render import (
+    _beaufort,
     _effects,
     _memory,
     _moving_objects,
@@ -358,7 +359,7 @@ SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
             ("scene_update", _scene_update), ("moving_objects", _moving_objects),
             ("sea", _sea), ("bake", _bake),
-            ("pictures", _pictures),
+            ("pictures", _pictures), ("beaufort", _beaufort),
             ("memory", _memory))
 
 

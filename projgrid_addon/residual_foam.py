@@ -1,0 +1,156 @@
+"""Residual whitecap foam (stage B, Monahan and Lu 1990): the patches an active breaker (stage A,
+foam.whitecaps) leaves on the water, fading exponentially as their bubbles rise and burst
+(Callaghan, Deane, Stokes and Ward 2012: area decay times of 0.5 to 8 s, three to four times
+longer for bigger breakers).
+
+A pure function of the settings and the time, never state carried from frame to frame. Active
+foam of share A at a point lays residual foam at the rate A / T_A (T_A how long a breaker stays
+active), each patch fading as e^(-age / tau), so the residual share there is
+
+    R(t) = integral over ages a of A(t - a) / T_A e^(-a / tau) da        (at most 1)
+
+summed over a past window on an absolute time lattice (a third of tau apart; consecutive
+frames share the samples), at the frame's grid points before the choppy displacement: the
+water's own points, which the waves carry back and forth, so foam stays with the water it
+fell on. A patch active for T_A leaves R = 1 and fades; a sea whose active share is W_A
+everywhere has R = W_A tau / T_A. So the active share is the part of Monahan's coverage W that
+breakers are active for, W T_A / (T_A + tau), the residual the rest (tests/core/test_foam.py
+measures the sum).
+
+Only the young foam, WINDOW decay times, is placed at the points; the older, e^-WINDOW of the
+residual (`aged_share`), has drifted and spread from where it fell by then, and is drawn where
+the wind gathers it, in streaks along it (the shader's, water_model.foam_cover)."""
+
+import hashlib
+import threading
+import weakref
+from collections import OrderedDict
+
+import numpy as np
+
+from . import spectrum
+from .band_limit import every_other_of, every_other_shape, fill_every_other
+from .cascade import SIDEWAYS
+
+SAMPLES_PER_DECAY = 3.0  # past samples per decay time (an absolute lattice of step tau / 3)
+ACTIVE_TIME = 0.7  # s a breaker stays active (stage A)
+WINDOW = 2.0  # decay times of history placed at the points, tapered out over the last step
+DECAY_PER_ROOT_METRE = 0.25  # s: tau = this sqrt(breaking wavelength), within DECAY_RANGE
+DECAY_RANGE = (0.5, 8.0)  # s, Callaghan et al. 2012's range
+
+
+def decay_time(source):
+    """tau (s) of the source's residual foam: longer for longer breakers, as the square root
+    of its peak wavelength (the spectrum's wind sea, the noise's first octave)."""
+    state = getattr(source, "state", None)
+    wavelength = (spectrum.peak_wavelength(state) if state is not None
+                  else source.wavelength(0))
+    return float(np.clip(DECAY_PER_ROOT_METRE * np.sqrt(max(wavelength, 0.0)), *DECAY_RANGE))
+
+
+def active_share(tau):
+    """The share of the whitecap coverage that is active breaking: T_A / (T_A + tau)."""
+    return ACTIVE_TIME / (ACTIVE_TIME + tau)
+
+
+def aged_share():
+    """The share of the residual foam older than the window: e^-WINDOW."""
+    return float(np.exp(-WINDOW))
+
+
+def samples(time, tau):
+    """The past samples (time, weight) at `time` for R's integral: the lattice times within
+    WINDOW tau before it, tau / SAMPLES_PER_DECAY apart, each weighted by its share of the
+    integral (step / T_A e^(-age / tau)), ramped in over its first step of age and out over
+    the window's last, so the foam changes continuously as samples enter and leave, and
+    scaled so a steady A lays the window's R = A tau / T_A (1 - `aged_share`) on average over a
+    step (within 2 %). The weights are functions of the ages alone: a patch fades without
+    pulsing."""
+    reach, step = WINDOW * tau, tau / SAMPLES_PER_DECAY
+    scale = tau * (1.0 - aged_share()) / ACTIVE_TIME / _laid(step, tau)
+    last = int(np.floor(time / step))
+    out = []
+    for k in range(int(np.ceil(reach / step)) + 1):
+        when = (last - k) * step  # the same float for a lattice point whatever the frame
+        age = time - when
+        weight = np.exp(-age / tau) * min(age / step, 1.0, max((reach - age) / step, 0.0))
+        if weight > 0.0:
+            out.append((when, float(weight * step * scale)))
+    return out
+
+
+def _laid(step, tau):
+    """The weights' sum, e^(-age / tau) over the samples, ramps and all, times the step: its
+    mean over where `time` falls within a step (its swing over a step is under 2 %)."""
+    reach = WINDOW * tau
+    total = 0.0
+    for phase in (np.arange(16) + 0.5) / 16.0 * step:
+        ages = phase + step * np.arange(int(np.ceil(reach / step)) + 1)
+        ramp = np.minimum(np.minimum(ages / step, 1.0), np.clip((reach - ages) / step, 0.0, None))
+        total += float(np.sum(np.exp(-ages / tau) * ramp)) * step / 16.0
+    return total
+
+
+def cue_at(source, xy, time, lod):
+    """The source's foam cue at time `time` at grid points `xy` (2, rows, columns, before any
+    choppy displacement), its folding taken from the grid the points make at that time."""
+    moved = xy
+    if getattr(source, "choppiness", 0.0) > 0.0 and hasattr(source, "jacobian"):
+        moved = xy + source.sample(xy, time, lod, SIDEWAYS, on_grid=True)
+    return source.foam_cue(xy, time, lod, grid=moved)
+
+
+class PastFoam:
+    """The past samples' active foam on a grid, kept per source and (grid, lod, time): a still
+    camera's grid is the same from frame to frame, so each sample is made once, not every
+    frame (KEPT of them a source). A cache of pure functions: never changes what is drawn."""
+
+    KEPT = 48
+
+    def __init__(self):
+        self._kept = weakref.WeakKeyDictionary()
+        self._lock = threading.Lock()
+
+    def get(self, source, grid, when, make):
+        with self._lock:
+            kept = self._kept.setdefault(source, OrderedDict())
+            hit = kept.get((grid, when))
+        if hit is None:
+            hit = make()
+            with self._lock:
+                kept[grid, when] = hit
+                while len(kept) > self.KEPT:
+                    kept.popitem(last=False)
+        return hit
+
+
+PAST = PastFoam()
+
+
+def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None):
+    """Stage-B foam R in [0, 1] at grid points `xy` (2, rows, columns; `lod` their band limit)
+    at `time`, from the active foam (`active(cue, lod, when)`: per-vertex whitecaps of a cue
+    at a past time) of the past samples (`samples`), each kept for the grid (PAST) under
+    `grid`, bytes that name it (None: a digest of the points and their band limit); `placed`
+    the share of the window's foam left at the points (the rest is drawn as streaks).
+
+    The past foam is made at every other point each way (band_limit.every_other: a quarter of
+    the points, twice their spacing, so a band limit one lower, at most `top`) and spread
+    linearly between them: a patch is metres across, wider than the near grid's spacing."""
+    shape = xy.shape[1:]
+    coarse = every_other_shape(shape)
+    points = every_other_of(xy, np.empty((2, *coarse)))
+    if lod is not None:
+        lod = every_other_of(np.asarray(lod, np.float32).reshape(shape),
+                             np.empty(coarse, np.float32)) - np.float32(1.0)
+        if top is not None:
+            lod = np.minimum(lod, np.float32(top))
+    out = np.zeros(coarse, np.float32)
+    if grid is None:
+        grid = hashlib.sha1(points.tobytes() + np.asarray(lod, np.float32).tobytes()).digest()
+    for when, weight in samples(time, tau):
+        foam = PAST.get(source, grid, when, lambda when=when: active(
+            cue_at(source, points, when, lod), lod, when).reshape(coarse))
+        out += foam * np.float32(weight * placed)
+    full = fill_every_other(out, np.zeros(shape, np.float32)).ravel()
+    return np.minimum(full, 1.0, out=full)

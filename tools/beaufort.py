@@ -1,0 +1,103 @@
+"""The Beaufort pictures and the rendered white share per force: each force's preset from 5 m
+and from 40 m up (EEVEE, frame 48, the wind across the view), written to docs/ as
+beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
+Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
+
+The white share is measured on the picture: each shot is rendered three times, as drawn, with
+the foam muted and with foam everywhere; a pixel's foam cover is how far it went from the
+muted picture toward the all-foam one (in display values), and it is white where that is over
+a half (a sea without foam called for, force 2, has none to whiten). `make bench` runs it
+(step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
+
+import json
+import os
+import sys
+import tempfile
+
+FORCES = (2, 4, 6, 8, 10)
+HEIGHTS = {5.0: -4.0, 40.0: -12.0}  # camera height m: pitch deg
+FRAME = 48
+WHITE = 0.5  # a pixel's foam cover from which it reads as white
+
+
+def render(scene, path):
+    import bpy
+    import numpy as np
+
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    img = bpy.data.images.load(path)
+    w, h = img.size
+    px = np.array(img.pixels[:], np.float32).reshape(h, w, 4)[::-1, :, :3]
+    bpy.data.images.remove(img)
+    return px @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def white_share(group, scene, path):
+    """(white share, mean cover) of the sea's pixels in the shot, from the picture as drawn
+    (already at `path`) and two more with the Foam mix's factor at 0 and at 1."""
+    import numpy as np
+
+    foam = group.nodes["Foam"].inputs[0]
+    link = foam.links[0]
+    source = link.from_socket
+    group.links.remove(link)
+    try:
+        lum = {}
+        for factor in (0.0, 1.0):
+            foam.default_value = factor
+            lum[factor] = render(scene, f"{path[:-4]}_foam{int(factor)}.png")
+    finally:
+        group.links.new(source, foam)
+    drawn = render(scene, path)
+    gain = lum[1.0] - lum[0.0]
+    sea = gain > 0.05  # where foam could show: the sea, not the sky (none: no foam drawn)
+    if not sea.any():
+        return 0.0, 0.0
+    cover = np.clip((drawn - lum[0.0]) / np.where(sea, gain, 1.0), 0.0, 1.0)[sea]
+    return float((cover > WHITE).mean()), float(cover.mean())
+
+
+def shoot(out, quick=False):
+    """Render every force from each height into `out` (the extension installed); the rows of
+    (force, height, white share, mean cover, Monahan's share, picture)."""
+    import bpy
+
+    from projgrid_addon import effects
+    from tools.demo import default_shot
+
+    size, samples = ((240, 135), 4) if quick else ((480, 270), 16)
+    work = tempfile.mkdtemp(prefix="projgrid-beaufort-")
+    rows = []
+    for force in FORCES:
+        for height, pitch in HEIGHTS.items():
+            bpy.ops.wm.read_homefile(use_empty=True)
+            scene = bpy.context.scene
+            default_shot(scene, size=size, samples=samples, height=height, pitch=pitch)
+            ocean = bpy.data.objects["Ocean"]
+            bpy.context.view_layer.objects.active = ocean
+            bpy.ops.projgrid.sea_state(beaufort=force)
+            scene.frame_set(FRAME)
+            group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
+            name = f"beaufort_{force}_{int(height)}m.png"
+            white, cover = white_share(group, scene, os.path.join(work, name))
+            os.replace(os.path.join(work, name), os.path.join(out, name))
+            rows.append({"force": force, "height": height, "white": white, "cover": cover,
+                         "monahan": effects.whitecap_coverage(ocean.projgrid.wind_speed),
+                         "path": name})
+            print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def main(out, quick=False):
+    os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
+    from tools.demo import install
+    from tools.package import build
+
+    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
+    return shoot(out, quick)
+
+
+if __name__ == "__main__":
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    main(args[0] if args else "docs", quick="--quick" in sys.argv)
