@@ -42,6 +42,9 @@ _PERSPECTIVE = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0], [0, 0, 
 _ORTHOGRAPHIC = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, -1.0, 0], [0, 0, 0, 1.0]])
 
 
+NEAR_EYE = 1e-3  # of the span's farthest reach (w) from the eye: nearer, a point's NDC is noise
+
+
 def _on_screen(a, b):
     """How much screen each segment a -> b ((..., 2) NDC each) covers: its length, weighted at
     its middle by a window that is 1 inside the screen and falls to 0 over SCREEN_EDGE on
@@ -168,7 +171,12 @@ class Projector:
                 ndc = np.where(front[..., None],
                                clip[..., :2] / np.where(front, clip[..., 3], 1.0)[..., None], 0.0)
             both = front[:, 1:] & front[:, :-1]
-            seen = seen + weight * np.where(both, _on_screen(ndc[:, :-1], ndc[:, 1:]),
+            # Points within NEAR_EYE of the span's reach from the eye (w) project with the
+            # cancellation of a plane through it: faded out, not trusted.
+            w = np.where(front, clip[..., 3], 0.0)
+            trust = np.clip(np.minimum(w[:, 1:], w[:, :-1]) / (NEAR_EYE * w.max() + 1e-300),
+                            0.0, 1.0)
+            seen = seen + weight * np.where(both, trust * _on_screen(ndc[:, :-1], ndc[:, 1:]),
                                             0.0).sum(axis=0)
         return seen
 

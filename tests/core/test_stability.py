@@ -68,6 +68,13 @@ NAMED = {
     "on the surface, flat sea": Pose(height=0.0, pitch=0.0, amplitude=0.0),
     "inside the volume": Pose(height=0.3, pitch=-10.0, amplitude=2.0),
     "under water looking up": Pose(height=-5.0, pitch=30.0),
+    # the mean sea through the eye, a point of the span near it: its NDC was the rows' spacing
+    "on the surface, rolled and shifted, a telephoto": Pose(
+        height=0.0, pitch=0.0, yaw=-180.0, roll=162.34071060083807, fov=1.0,
+        near=3.712890573884195e-06, far=0.25161991181746446, bearing=194.15410716086626,
+        aspect=3.224382534674953, shift_x=0.43859798600897193, shift_y=0.2047090653795749,
+        level=-29.338015243411064, amplitude=0.0, time=5888711.264179228,
+        elevation=21.973201690707356, resolution=(12, 10), choppiness=1.5, wind_speed=20.0),
     "under water looking down": Pose(height=-0.3, pitch=-60.0),
     "deep, looking at the surface": Pose(height=-50.0, pitch=80.0, fov=90.0),
     "amplitude above the camera": Pose(height=3.0, amplitude=20.0, pitch=-20.0),
