@@ -72,6 +72,7 @@ MOMENTS = 12  # times whose tiles a source keeps (`SpectralField._at`)
 
 class SpectralField:
     """A sea from its spectrum, sampled at world points: heights and choppy displacements.
+
     Time is an argument of every read: `bounds(t)` are true bounds of what is sampled at t
     (bilinear samples never exceed their tile's extremes); the tiles' fields of the last times
     read are kept as a cache keyed by the time, not as state a reader must set up."""
