@@ -30,7 +30,9 @@ SAMPLES_PER_WAVE = 8.0  # over a tile's shortest wave: bilinear sampling keeps 9
 # times larger, so the shortest wave still spans 8 / 1.28 = 6.25 samples.
 TILE_RATIOS = (1.0, 1.0833, 1.1614, 1.2369, 1.1197, 1.0431, 1.2041, 1.2795)
 LAYER_FIRST = 3  # the bands from this one on are the slope layer's too (slope_layer.py)
-FOAM_STEPS = 8  # foam calibrations over a band's fade-in (foam_levels): fewer miss its start
+# Where over a band's fade-in the foam is calibrated (foam_levels), as fractions of it: closer
+# at its start, where the cue's spread changes fastest.
+FOAM_STEPS = (0.0, 0.125, 0.25, 0.5, 1.0)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
 BIG = 2  # how many times more texels (and metres) a band holding more than that has
 # Fields a tile can give: the height, the choppy displacement along x and y, and the height's

@@ -43,7 +43,6 @@ def sea_sample(span, samples=4096):
     return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
 
 
-PAST_SAMPLES = 4096  # sea points the residual foam's past thresholds are calibrated on
 
 
 def foam_thresholds(source, time, coverage, samples=16384, kept=None):
@@ -83,9 +82,7 @@ class Calibrations:
     oldest made dropped first. Thread-safe: a calibration being made elsewhere (`reserve`d,
     the Blender layer's worker) is waited for, not made twice."""
 
-    # The frame's two and two ahead, and those of the residual foam's past samples (at most
-    # WINDOW times the longest decay time, residual_foam).
-    KEPT = 4 + int(np.ceil(residual_foam.WINDOW * residual_foam.DECAY_RANGE[1] / FOAM_PERIOD))
+    KEPT = 4  # the frame's two and two ahead
 
     def __init__(self):
         self._made = weakref.WeakKeyDictionary()  # source -> {key: calibration}
@@ -202,17 +199,26 @@ def whitecaps(cue, lod, calibration):
     the vertices and `foam_thresholds`: rising from 0 to 1 across the vertex's threshold over
     the ramp's width, centred on it, so the mean foam over the sea is the coverage. `lod`
     None: every band, whole."""
+    return at_thresholds(lod, calibration)(cue)
+
+
+def at_thresholds(lod, calibration):
+    """`whitecaps` of points of band limit `lod` as a function of their cue: the thresholds
+    and widths at `lod` looked up once, for cues of several times at the same points."""
     levels, thresholds, widths = calibration
-    cue = np.asarray(cue, dtype=np.float32).ravel()
     if lod is None:
-        t, width = thresholds[-1], widths[-1]
+        t, width = np.float32(thresholds[-1]), np.float32(widths[-1])
     else:
         lod = np.asarray(lod, dtype=np.float64).ravel()
-        t, width = np.interp(lod, levels, thresholds), np.interp(lod, levels, widths)
-    foam = np.subtract(cue, t, dtype=np.float32)
-    foam /= np.asarray(width, dtype=np.float32)
-    foam += np.float32(0.5)
-    return np.clip(foam, 0.0, 1.0, out=foam)
+        t = np.interp(lod, levels, thresholds).astype(np.float32)
+        width = np.interp(lod, levels, widths).astype(np.float32)
+
+    def foam(cue):
+        out = np.subtract(np.asarray(cue, dtype=np.float32).ravel(), t, dtype=np.float32)
+        out /= width
+        out += np.float32(0.5)
+        return np.clip(out, 0.0, 1.0, out=out)
+    return foam
 
 
 def foam_coverage(wind_speed):
@@ -360,15 +366,16 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lods = result.lod.reshape(xy.shape[1:])
         placed = whitecap_level(source)
-        lod = np.minimum(lods, np.float32(placed))  # finer: the cue without shorter waves
-        cue = (residual_foam.cue_at(source, xy, time, lod) if lods.max() > placed
-               else source.foam_cue(xy, time, lod, grid=surface[:2]))
-        foam = whitecaps(cue, lod, foam_thresholds(source, time, coverage))
-
-        def past(cue, at, when):  # the past's thresholds from fewer points: summed, not seen
-            return whitecaps(cue, at, foam_thresholds(source, when, coverage, PAST_SAMPLES))
+        thresholds = foam_thresholds(source, time, coverage)
+        if lods.max() > placed:  # finer: the cue without shorter waves, at every other point
+            foam = residual_foam.on_coarse(lambda points, at: whitecaps(
+                residual_foam.cue_at(source, points, time, at), at, thresholds),
+                xy, lods, 1, placed)
+        else:
+            foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
         residual = residual_foam.residual(
-            source, xy, lods, time, past, residual_foam.decay_time(source), _grid_key(result),
+            source, xy, lods, time, lambda at: at_thresholds(at, thresholds),
+            residual_foam.decay_time(source), _grid_key(result),
             (1.0 - streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
     if len(boxes):
         x, y, h = surface

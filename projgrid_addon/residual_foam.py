@@ -37,6 +37,7 @@ ACTIVE_TIME = 0.7  # s a breaker stays active (stage A)
 WINDOW = 2.0  # decay times of history placed at the points, tapered out over the last step
 DECAY_PER_ROOT_METRE = 0.25  # s: tau = this sqrt(breaking wavelength), within DECAY_RANGE
 DECAY_RANGE = (0.5, 8.0)  # s, Callaghan et al. 2012's range
+COARSE = 2  # the past is taken at every other point each way, twice over (on_coarse)
 
 
 def decay_time(source):
@@ -93,15 +94,18 @@ def _laid(step, tau):
 
 def cue_at(source, xy, time, lod):
     """The source's foam cue at time `time` at grid points `xy` (2, rows, columns, before any
-    choppy displacement), its folding taken from the grid the points make at that time."""
-    moved = xy
+    choppy displacement), its folding taken from the grid the points make at that time; for
+    a tuple of times, their cues (the points located in the sea's tiles once for all)."""
+    times = time if isinstance(time, tuple) else (time,)
+    moved = [xy] * len(times)
     if getattr(source, "choppiness", 0.0) > 0.0 and hasattr(source, "jacobian"):
-        moved = xy + source.sample(xy, time, lod, SIDEWAYS, on_grid=True)
-    return source.foam_cue(xy, time, lod, grid=moved)
+        moved = xy + source.sample(xy, times, lod, SIDEWAYS, on_grid=True)
+    cues = [source.foam_cue(xy, t, lod, grid=m) for t, m in zip(times, moved, strict=True)]
+    return cues if isinstance(time, tuple) else cues[0]
 
 
 class PastFoam:
-    """The past samples' active foam on a grid, kept per source and (grid, lod, time): a still
+    """The past samples' foam cue on a grid, kept per source and (grid, time): a still
     camera's grid is the same from frame to frame, so each sample is made once, not every
     frame (KEPT of them a source). A cache of pure functions: never changes what is drawn."""
 
@@ -111,46 +115,71 @@ class PastFoam:
         self._kept = weakref.WeakKeyDictionary()
         self._lock = threading.Lock()
 
-    def get(self, source, grid, when, make):
+    def get(self, source, grid, whens, make):
+        """The cues at `whens` on `grid`, those not kept made by `make(missing whens)`."""
         with self._lock:
             kept = self._kept.setdefault(source, OrderedDict())
-            hit = kept.get((grid, when))
-        if hit is None:
-            hit = make()
+            hits = {when: kept.get((grid, when)) for when in whens}
+        missing = tuple(when for when, hit in hits.items() if hit is None)
+        if missing:
+            hits.update(zip(missing, make(missing), strict=True))
             with self._lock:
-                kept[grid, when] = hit
+                for when in missing:
+                    kept[grid, when] = hits[when]
                 while len(kept) > self.KEPT:
                     kept.popitem(last=False)
-        return hit
+        return [hits[when] for when in whens]
 
 
 PAST = PastFoam()
 
 
+def on_coarse(make, xy, lod, steps, top=None):
+    """`make(points, lod)`, per-point values at the points given, taken at every other grid
+    point each way `steps` times over (band_limit.every_other_of: 4^-steps of the points,
+    2^steps their spacing, so a band limit `steps` lower, at most `top`) and spread linearly
+    back over all of `xy`'s (2, rows, columns) points: float32, flat."""
+    shapes = [xy.shape[1:]]
+    points, at = xy, None if lod is None else np.asarray(lod, np.float32).reshape(shapes[0])
+    for _ in range(steps):
+        shapes.append(every_other_shape(shapes[-1]))
+        points = every_other_of(points, np.empty((2, *shapes[-1])))
+        if at is not None:
+            at = every_other_of(at, np.empty(shapes[-1], np.float32))
+    if at is not None:
+        at = at - np.float32(steps)
+        if top is not None:
+            at = np.minimum(at, np.float32(top))
+    out = np.asarray(make(points, at), np.float32).reshape(shapes[-1])
+    for shape in reversed(shapes[:-1]):
+        out = fill_every_other(out, np.zeros(shape, np.float32))
+    return out.ravel()
+
+
 def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None):
     """Stage-B foam R in [0, 1] at grid points `xy` (2, rows, columns; `lod` their band limit)
-    at `time`, from the active foam (`active(cue, lod, when)`: per-vertex whitecaps of a cue
-    at a past time) of the past samples (`samples`), each kept for the grid (PAST) under
-    `grid`, bytes that name it (None: a digest of the points and their band limit); `placed`
-    the share of the window's foam left at the points (the rest is drawn as streaks).
+    at `time`, from the active foam of the past samples (`samples`): `active(lod)` gives the
+    function from a cue at points of band limit `lod` to their whitecaps, by the frame's own
+    thresholds (a past sample's foam is the share of its cue over the threshold the frame
+    calibrates, so no past second is calibrated again: the sum over the window is what the
+    coverage sets). Each sample's cue is kept for the grid (PAST) under `grid`, bytes that name
+    it (None: a digest of the points and their band limit); `placed` the share of the
+    window's foam left at the points (the rest is drawn as streaks).
 
-    The past foam is made at every other point each way (band_limit.every_other: a quarter of
-    the points, twice their spacing, so a band limit one lower, at most `top`) and spread
-    linearly between them: a patch is metres across, wider than the near grid's spacing."""
-    shape = xy.shape[1:]
-    coarse = every_other_shape(shape)
-    points = every_other_of(xy, np.empty((2, *coarse)))
-    if lod is not None:
-        lod = every_other_of(np.asarray(lod, np.float32).reshape(shape),
-                             np.empty(coarse, np.float32)) - np.float32(1.0)
-        if top is not None:
-            lod = np.minimum(lod, np.float32(top))
-    out = np.zeros(coarse, np.float32)
-    if grid is None:
-        grid = hashlib.sha1(points.tobytes() + np.asarray(lod, np.float32).tobytes()).digest()
-    for when, weight in samples(time, tau):
-        foam = PAST.get(source, grid, when, lambda when=when: active(
-            cue_at(source, points, when, lod), lod, when).reshape(coarse))
-        out += foam * np.float32(weight * placed)
-    full = fill_every_other(out, np.zeros(shape, np.float32)).ravel()
+    The past cue is taken on a coarser grid (`on_coarse`, COARSE steps: a sixteenth of the
+    points) and the foam spread linearly between: a patch is metres across, wider than the
+    near grid's spacing, and far off, where the coarse points are tens of metres apart, the
+    shader draws the sea's mean share (water_model.foam_cover)."""
+    def make(points, at):
+        key = grid if grid is not None else hashlib.sha1(
+            points.tobytes() + np.asarray(at, np.float32).tobytes()).digest()
+        foam_of = active(at)
+        out = np.zeros(points.shape[1:], np.float32)
+        past = samples(time, tau)
+        cues = PAST.get(source, key, [when for when, _ in past],
+                        lambda whens: cue_at(source, points, whens, at))
+        for cue, (_, weight) in zip(cues, past, strict=True):
+            out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
+        return out
+    full = on_coarse(make, xy, lod, COARSE, top)
     return np.minimum(full, 1.0, out=full)

@@ -152,11 +152,10 @@ class SpectralField:
         return band_level(bands()[band_of(wavelength)][0]) + 1.0
 
     def foam_levels(self):
-        """The band limits at which the foam is calibrated: FOAM_STEPS steps over each band's
+        """The band limits at which the foam is calibrated: at FOAM_STEPS over each band's
         fade-in (band_limit.octave_weights: from its level to its level + 1), where the cue's
         spread changes fast; between fades nothing changes, so the thresholds interpolate."""
-        steps = np.linspace(0.0, 1.0, FOAM_STEPS + 1)
-        levels = sorted({float(level + f) for level in self.levels for f in steps})
+        levels = sorted({float(level + f) for level in self.levels for f in FOAM_STEPS})
         return levels or [0.0]
 
     def foam_cue(self, xy, t, lod=None, grid=None):
@@ -265,22 +264,23 @@ class SpectralField:
 
     def sample(self, xy, t, lod=None, fields=(0,), on_grid=False):
         """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
-        each band weighted by the band limit (`lod`, as the grid gives it, or None): a
-        (len(fields), ...) float64 array. `on_grid`: xy (2, rows, columns) are a grid's
-        vertices, neighbours along both axes, so a band long against the spacing is sampled
-        on every other row and column and interpolated between (band_limit.COARSE)."""
-        textures = self._at(t, fields)[1]
+        each band weighted by the band limit (`lod`, as the grid gives it, or None): (len(fields),
+        ...) float64; for a tuple of times `t`, (len(t), len(fields), ...), each tile located once.
+        `on_grid`: xy (2, rows, columns) are a grid's vertices, neighbours both ways, so a band
+        long against the spacing is sampled on every other row and column (band_limit.COARSE)."""
+        times = t if isinstance(t, tuple) else (t,)
+        textures = [self._at(when, fields)[1] for when in times]
         xy = np.asarray(xy, dtype=np.float64)
         shape = xy.shape[1:]
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
-        out = np.empty((len(fields),) + shape)
-        xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(fields),) + rows)
+        out = np.empty((len(times), len(fields)) + shape)
+        xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(times), len(fields)) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         on_grid = on_grid and lod2 is not None and len(shape) == 2
         lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
                 for level, along, _ in self.groups]
-        step = max(1, CHUNK // out2.shape[-1])
-        for start in range(0, out2.shape[1], step):
+        step = max(1, CHUNK // out2.shape[-1] // len(times))
+        for start in range(0, out2.shape[2], step):
             band = slice(start, start + step)
             origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
             # The offsets from the origin, then the warp there (Lookup.turned reads both).
@@ -288,12 +288,12 @@ class SpectralField:
             np.subtract(xy2[:, band], origin[:, None, None], out=points[:2],
                         casting="same_kind")
             self.warp(origin, points[:2], out=points[2:])
-            sums = scratch("sums", out2[:, band].shape, np.float32)  # summed in single
+            sums = scratch("sums", out2[:, :, band].shape, np.float32)  # summed in single
             sums.fill(0.0)
             self._sum(textures, origin, points, [None if g is None else g[band] for g in lods],
                       fields, sums, on_grid)
-            out2[:, band] = sums
-        return out
+            out2[:, :, band] = sums
+        return out if isinstance(t, tuple) else out[0]
 
     @staticmethod
     def _origin(xy, lod):
@@ -306,11 +306,10 @@ class SpectralField:
         return xy[:, i[0], i[1]].copy()
 
     def _sum(self, textures, origin, points, lods, fields, out, on_grid):
-        """Add the bands' `fields` (of `textures`, per cascade) at origin + offsets into `out`,
-        band by band (a band's
-        tiles share its level, so its rows and its coarse part; `lods` the band limit for
-        each of self.groups), each tile read where the warp there turned by its own turn
-        moves the points. `points` (4, rows, columns): the offsets, then the warp."""
+        """Add the bands' `fields` (of `textures`: per time, per cascade) at origin + offsets
+        into `out` (times, fields, rows, columns), band by band (its tiles share its rows and
+        coarse part; `lods`: each of self.groups' band limit), each tile read where the warp
+        turned by its own turn moves the points `points` (4, rows, columns: offsets, warp)."""
         mins = {}
         for (level, _, tiles), lod in zip(self.groups, lods, strict=True):
             if not self.cascades[tiles[0]].gives.intersection(fields):
@@ -330,31 +329,34 @@ class SpectralField:
                     weight = octave_weights(lod[rows], level,
                                             scratch("weights", lod[rows].shape, lod.dtype))
                 for j in tiles:
-                    self._add(textures[j], j, points[:, rows], origin, fields, out[:, rows], weight)
+                    self._add(textures, j, points[:, rows], origin, fields, out[:, :, rows],
+                              weight)
             if coarse is not None:
                 few = every_other_of(points[:, coarse], scratch(
                     "few", (4,) + every_other_shape(points[0, coarse].shape), np.float32))
-                sums = scratch("coarse", (len(fields),) + few.shape[1:], np.float32)
+                sums = scratch("coarse", out.shape[:2] + few.shape[1:], np.float32)
                 sums.fill(0.0)
                 for j in tiles:
-                    self._add(textures[j], j, few, origin, fields, sums, None)
-                filled = scratch("filled", out[0, coarse].shape, np.float32)
-                for i in range(len(fields)):
-                    out[i, coarse] += fill_every_other(sums[i], filled)
+                    self._add(textures, j, few, origin, fields, sums, None)
+                filled = scratch("filled", out[0, 0, coarse].shape, np.float32)
+                for k in range(out.shape[0]):
+                    for i in range(len(fields)):
+                        out[k, i, coarse] += fill_every_other(sums[k, i], filled)
 
     def _add(self, textures, j, points, origin, fields, out, weight):
-        """Add tile j's `fields` (of its `textures`) at origin + offsets (moved by its turn of
-        the warp; `points` as `_sum`'s) into `out`, times `weight` if given."""
+        """Add tile j's `fields` (of each time's `textures`) at `points` as `_sum`'s into `out`,
+        times `weight` if given."""
         cascade = self.cascades[j]
         where = Lookup.turned(cascade.texels, points, origin, cascade.texels / cascade.size,
                               cascade.turn, shift_turn=Warp.turn(j))
-        for i, f in enumerate(fields):
-            if f not in textures:  # a field the tile does not hold: 0
-                continue
-            v = where.sample(textures[f])
-            if weight is not None:
-                v *= weight
-            out[i] += v
+        for at, into in zip(textures, out, strict=True):
+            for i, f in enumerate(fields):
+                if f not in at[j]:  # a field the tile does not hold: 0
+                    continue
+                v = where.sample(at[j][f])
+                if weight is not None:
+                    v *= weight
+                into[i] += v
 
     def displacement(self, xy, t, lod=None, on_grid=False):
         """(h, (dx, dy) or None) at world points xy (2, ...): the height and, with choppiness,
@@ -387,10 +389,8 @@ class SpectralField:
         level = np.full(xy.shape[1:], top) if lod is None else np.minimum(lod, top)
         step = self.wave_scale * 2.0 ** -level / 2.0  # lod = log2(wave_scale / (2 spacing))
         points = np.repeat(xy[:, None], 4, axis=1)  # (2, 4, ...): +x, -x, +y, -y
-        points[0, 0] += step
-        points[0, 1] -= step
-        points[1, 2] += step
-        points[1, 3] -= step
+        points[0, :2] += np.multiply.outer((1.0, -1.0), step)
+        points[1, 2:] += np.multiply.outer((1.0, -1.0), step)
         lods = np.broadcast_to(level.astype(np.float32), points.shape[1:])
         dx, dy = self.sample(points, t, None if lod is None else lods, SIDEWAYS)
         span = 2.0 * step

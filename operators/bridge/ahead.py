@@ -22,10 +22,7 @@ def calibrate(source, time, wind_speed):
     if twin is None:
         return 0
     coverage = foam.active_coverage(source, wind_speed)
-    # the frame's own thresholds and, from the same seconds, those its residual foam reads
-    # once they are past (foam.PAST_SAMPLES): else each second's first frame makes them
-    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, coverage)
-                                     + foam.ahead(time, coverage, foam.PAST_SAMPLES))
+    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, coverage))
     _JOBS[:] = [job for job in _JOBS if not job.done()]
     for n, key in enumerate(keys):
         try:

@@ -148,8 +148,6 @@ def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension
     source = bridge.scene.height_field(sea.projgrid)
     coverage = foam.active_coverage(source, sea.projgrid.wind_speed)
     assert all(foam.CALIBRATIONS.has(source, (t, coverage, 16384)) for t in (1.0, 2.0, 3.0))
-    # and the residual foam's, for when those seconds are past
-    assert all(foam.CALIBRATIONS.has(source, (t, coverage, foam.PAST_SAMPLES)) for t in (2.0, 3.0))
 
 
 def test_the_noise_foam_at_a_strong_wind_is_not_empty():

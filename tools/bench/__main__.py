@@ -30,7 +30,15 @@ def main(quick=False, only=None):
     from tools.demo import install
     from tools.package import build
 
-    from . import blender_bench, core_bench, memory_bench, render_bench, report, scene_bench
+    from . import (
+        blender_bench,
+        core_bench,
+        memory_bench,
+        render_bench,
+        report,
+        scene_bench,
+        storm_bench,
+    )
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
     bpy.ops.wm.read_homefile(use_empty=True)
@@ -64,6 +72,7 @@ def main(quick=False, only=None):
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
         ("flicker", lambda: render_bench.flicker(DOCS, frames=3 if quick else 4)),
+        ("storm", lambda: storm_bench.storm_cost(quick)),  # its own processes
         ("beaufort", lambda: beaufort.shoot(DOCS, quick)),  # these two start from empty files
         ("pictures", lambda: pictures(quick)),
     ]

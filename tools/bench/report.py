@@ -22,6 +22,7 @@ from .report_render import (
     _pictures,
     _render,
     _scene_update,
+    _storm,
 )
 
 # The measurements behind design choices were taken once and are not re-run by the bench: they
@@ -359,7 +360,7 @@ SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
             ("scene_update", _scene_update), ("moving_objects", _moving_objects),
             ("sea", _sea), ("bake", _bake),
-            ("pictures", _pictures), ("beaufort", _beaufort),
+            ("pictures", _pictures), ("beaufort", _beaufort), ("storm", _storm),
             ("memory", _memory))
 
 

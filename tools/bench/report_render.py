@@ -322,3 +322,42 @@ def _memory(report):
                         ("held after", "topology_held", ".0f"),
                         ("same topology: peak", "rebuild", ".0f"),
                         ("held after", "rebuild_held", ".0f")]), ""]
+
+
+def _storm(report):
+    """§13: what the storm's work costs, against the sea before it (tools/bench/storm_bench.py)."""
+    storm = report.results["storm"]
+    rows = storm["rows"]
+    for r in storm["ratios"]:
+        if r["what"] == "this tree / baseline" and r["variant"].startswith("frame 257"):
+            camera = r["variant"].split("camera ")[-1]
+            report.targets.append(Target(
+                f"A gale's frame (257², camera {camera}) ≤ 1.3× the sea's before the storm",
+                f"{r['ratio']:.2f}×", r["ratio"] <= 1.3,
+                f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
+                "screen (waves to the horizon), so more vertices are near and detailed, each "
+                "with more bands to sample; the whitecaps take the waves longer than 8 m alone, "
+                "a second sampling of the sea, and the residual foam its past samples (a "
+                "moving camera's grid is new each frame, so none is kept)."))
+        if r["what"] == "with stage B / without":
+            report.targets.append(Target(
+                "A gale rendered with its residual foam (stage B) ≤ 1.1× without it",
+                f"{r['ratio']:.2f}×", r["ratio"] <= 1.1,
+                "**Stage B's render.** Its past samples' foam cues at the frame's points, and "
+                "two more noises in the water group."))
+    report.md += [
+        "## 13. The storm's cost: a gale against the sea before it", "",
+        f"Beaufort 8 from 5 m up (4° down), this tree beside commit {storm['baseline']} (the "
+        "last before the storm's work: whitecaps alone, no residual foam or streaks, the grid "
+        "spread evenly over the projector's span), each in a Blender process of its own, the "
+        "two alternated. Per frame: frame_set on a 257² grid, each frame a time of its own, "
+        "the camera still and moving 2 m a frame. Rendered: a frame as a farm renders it, "
+        "alone (a time no earlier frame made: its sea, foam calibrations and residual past "
+        "made in it), EEVEE 960×540, 16 samples, after a render compiled the shaders; and "
+        "this tree's again without its residual foam (stage B: the per-vertex residual not "
+        "made, the water group's residual and streak noises left out). "
+        "`tools/bench/storm_bench.py`.", "",
+        _table(rows, [("variant", "variant", ""), ("tree", "tree", ""), ("ms", "ms", ".1f"),
+                      ("p10 ms", "p10", ".1f"), ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",
+        _table(storm["ratios"], [("variant", "variant", ""), ("ratio", "what", ""),
+                                 ("median", "ratio", ".2f"), ("p10", "ratio_p10", ".2f")]), ""]

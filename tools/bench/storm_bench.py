@@ -1,0 +1,159 @@
+"""What the storm's work costs against the sea before it: a gale (Beaufort 8) per frame and per
+rendered frame, this tree beside BASELINE (the commit before issue 36's work: whitecaps alone,
+no residual foam, no streaks, the even grid), each in its own Blender process, the two
+alternated ROUNDS times so the machine's load falls on both alike.
+
+Per frame: frame_set on a 257² grid from 5 m up, the camera still and moving (2 m a frame).
+Rendered: a frame rendered alone as a farm renders it (a time no earlier frame has made:
+its sea, calibrations and residual foam's past made in it), frame_set and the EEVEE render of
+the default shot at 960×540, 16 samples, after one render compiles the shaders.
+
+Alone: python -m tools.bench.storm_bench (the probe: python tools/bench/storm_bench.py --root R)."""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BASELINE = "51516fb"
+ROUNDS = 2
+NO_B = ", no stage B"  # the variant without the residual foam
+
+
+def storm_cost(quick=False):
+    """Rows (variant, tree, ms, p10 ms, CPU ms) and the ratios: this tree / BASELINE, and
+    this tree's render with its residual foam / without."""
+    base = tempfile.mkdtemp(prefix="projgrid-baseline-")
+    subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", base, BASELINE],
+                   check=True, capture_output=True)
+    times = {}
+    try:
+        for _ in range(1 if quick else ROUNDS):
+            for tree, root in (("baseline", base), ("this", ROOT)):
+                out = subprocess.run(
+                    [sys.executable, os.path.abspath(__file__), "--root", root]
+                    + (["--quick"] if quick else []),
+                    check=True, capture_output=True, text=True,
+                    env={**os.environ,
+                         "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="projgrid-user-")})
+                for variant, samples in json.loads(out.stdout.splitlines()[-1]).items():
+                    times.setdefault((variant, tree), []).extend(samples)
+    finally:
+        subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", base],
+                       capture_output=True)
+    import numpy as np
+
+    rows = []
+    for (variant, tree), samples in times.items():
+        wall, cpu = np.array(samples).T * 1e3
+        rows.append({"variant": variant, "tree": tree, "ms": float(np.median(wall)),
+                     "p10": float(np.percentile(wall, 10)), "cpu": float(np.median(cpu)),
+                     "n": len(wall)})
+    kept = {(r["variant"], r["tree"]): r for r in rows}
+
+    def ratio(what, top, bottom):
+        return {"variant": top["variant"], "what": what, "ratio": top["ms"] / bottom["ms"],
+                "ratio_p10": top["p10"] / bottom["p10"]}
+    ratios = [ratio("this tree / baseline", kept[v, "this"], kept[v, "baseline"])
+              for v, tree in kept if tree == "baseline" and (v, "this") in kept]
+    ratios += [ratio("with stage B / without", kept[v[:-len(NO_B)], "this"], kept[v, "this"])
+               for v, tree in kept if v.endswith(NO_B)]
+    return {"baseline": BASELINE, "rows": rows, "ratios": ratios}
+
+
+def _timed(fn):
+    wall, cpu = time.perf_counter(), time.process_time()
+    fn()
+    return time.perf_counter() - wall, time.process_time() - cpu
+
+
+def _stage_b_switch(bpy):
+    """A function turning this tree's residual foam (stage B) off and on again: the per-vertex
+    residual not made, the water group's residual and aged-foam noises gone (a copy of the
+    group without them); None in a tree without stage B."""
+    import importlib
+
+    from tools.demo import MODULE
+
+    try:
+        residual_foam = importlib.import_module(MODULE + ".projgrid_addon.residual_foam")
+        look = importlib.import_module(MODULE + ".projgrid_addon.look")
+    except ImportError:
+        return None
+    node = bpy.data.objects["Ocean"].data.materials[0].node_tree.nodes["Projected Grid Water"]
+    with_b, made = node.node_tree, residual_foam.residual
+    without = with_b.copy()
+    for noise in [n for n in without.nodes if n.type == "TEX_NOISE"
+                  and not n.inputs["Scale"].links and min(
+                      abs(n.inputs["Scale"].default_value - s)
+                      for s in (look.FOAM_LACE, look.FOAM_AGED)) < 1e-6]:
+        without.nodes.remove(noise)
+
+    def switch(on):
+        node.node_tree = with_b if on else without
+        residual_foam.residual = made if on else (lambda *a, **k: None)
+    return switch
+
+
+def probe(root, quick):
+    """In a fresh process: install `root`'s extension and time its gale; prints JSON."""
+    sys.path.insert(0, root)
+    import bpy
+
+    from tools.demo import default_shot, install
+    from tools.package import build
+
+    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
+    frames = 6 if quick else 30
+    out = {}
+
+    def gale(resolution=None, moving=False, first=100):
+        bpy.ops.wm.read_homefile(use_empty=True)
+        scene = bpy.context.scene
+        cam = default_shot(scene, size=(960, 540), samples=4 if quick else 16, height=5.0,
+                           pitch=-4.0)
+        ocean = bpy.data.objects["Ocean"]
+        bpy.context.view_layer.objects.active = ocean
+        bpy.ops.projgrid.sea_state(beaufort=8)
+        if resolution:
+            ocean.projgrid.resolution_x = ocean.projgrid.resolution_y = resolution
+        if moving:
+            bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
+            for frame in (first, first + 10_000):
+                cam.location.y = 2.0 * (frame - first)
+                cam.keyframe_insert("location", frame=frame)
+        scene.frame_set(first)
+        return scene
+
+    for moving in (False, True):
+        scene = gale(257, moving)
+        name = f"frame 257², camera {'moving' if moving else 'still'}"
+        out[name] = [_timed(lambda f=f, s=scene: s.frame_set(f))
+                     for f in range(scene.frame_current + 1, scene.frame_current + 1 + frames)]
+    scene = gale(first=48)
+    bpy.ops.render.render()  # compiles the shaders
+
+    def alone(frame):  # as `blender -b -f`: the render sets the frame
+        scene.frame_current = frame
+        bpy.ops.render.render()
+    renders = range(1000, 1000 + (1 if quick else 3) * 500, 500)
+    out["frame rendered alone, 960×540"] = [_timed(lambda f=f: alone(f)) for f in renders]
+    stage_b = _stage_b_switch(bpy)
+    if stage_b is not None:  # this tree: the same frames without the residual foam
+        stage_b(False)
+        bpy.ops.render.render()  # compiles the shaders without it
+        out["frame rendered alone, 960×540" + NO_B] = [
+            _timed(lambda f=f: alone(f + 250)) for f in renders]
+        stage_b(True)
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    if "--root" in sys.argv:
+        probe(sys.argv[sys.argv.index("--root") + 1], "--quick" in sys.argv)
+    else:
+        sys.path.insert(0, ROOT)
+        print(json.dumps(storm_cost("--quick" in sys.argv), indent=1))
