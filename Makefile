@@ -7,7 +7,7 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-unrendered test-fast test-core test-blender test-blender-4.5 lint package demo bench stress \
+.PHONY: test test-5.2 test-fast test-core test-blender test-blender-4.5 lint package demo bench stress \
 	clean
 
 define make_venv
@@ -42,15 +42,15 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	touch $@
 
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-# On CI's two cores: the 4.5 Blender tests beside the core's and 5.2's Blender tests that
-# render no shots, then 5.2's shots alone. Each part's output is printed whole when it ends.
+# On CI's two cores: the 4.5 Blender tests beside the core's and 5.2's (those that render no
+# shots first, then the shots). Each part's output is printed whole when it ends.
 test: lint
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-unrendered
-	$(PY) -m pytest -m slow tests/blender
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-5.2
 
-test-unrendered: $(VENV)/.blender
+test-5.2: $(VENV)/.blender
 	$(PY) -m pytest tests/core
 	$(PY) -m pytest -m "not slow" tests/blender
+	$(PY) -m pytest -m slow tests/blender
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
 # grid, the tiling check) on 5.2: about five minutes on this 2-core machine, four of them the Blender

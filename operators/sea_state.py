@@ -1,9 +1,10 @@
 """Sea State: an ocean's wind, fetch, choppiness and swell set to a Beaufort force at once."""
 
 import bpy
-from bpy.props import IntProperty
+from bpy.props import BoolProperty, IntProperty
 
-from ..projgrid_addon import spectrum
+from ..projgrid_addon import sea_states, spectrum
+from ..shaders import sky
 from .bridge import frame, scene, settings
 
 
@@ -17,6 +18,10 @@ class PROJGRID_OT_sea_state(bpy.types.Operator):
 
     beaufort: IntProperty(name="Beaufort", description="Beaufort force, 0 (calm) to 10 (storm)",
                           default=4, min=0, max=10)
+    weather: BoolProperty(
+        name="Weather", default=True,
+        description="Also cloud Add Ocean's sky over and dim its sun as the force asks: clear "
+                    "to a fresh breeze, a low dark overcast from a gale on")
 
     @classmethod
     def poll(cls, context):
@@ -28,6 +33,8 @@ class PROJGRID_OT_sea_state(bpy.types.Operator):
         source = obj.projgrid.height_source
         preset = settings.apply_sea_state(obj.projgrid, self.beaufort)
         obj.projgrid.height_source = source  # the waves' kind is the user's
+        if self.weather:
+            sky.weather(context.scene, sea_states.overcast(self.beaufort))
         frame.update_ocean(obj, context.scene, context.evaluated_depsgraph_get())
         height = spectrum.significant_height(spectrum.SeaState(
             wind_speed=preset.wind_speed, fetch=preset.fetch, spectrum=obj.projgrid.spectrum))

@@ -53,7 +53,7 @@ FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 RESIDUAL_BRIGHTNESS = 0.85
 # Aged foam (streaks) is a thin film over the water: drawn at this share of a full cover, over
 # as much more of the sea (its reflectance against fresh foam's, Koepke 1984).
-AGED_FILM = 0.5
+AGED_FILM = 0.75
 
 
 def body_volume(absorption, water_colour):

@@ -56,6 +56,18 @@ class GridResult:
         return self.extent is not None and self.extent.fitted
 
     @cached_property
+    def drift(self):
+        """(N, 3) float32: how far the choppy waves moved each vertex sideways from its grid
+        point (0 up), where the water it carries came from; None without choppiness."""
+        if self.base is None or not self.visible:
+            return None
+        out = np.zeros((self.base[0].size, 3), np.float32)
+        for k in (0, 1):
+            np.subtract(self.surface[k], self.base[k], out=out[:, k].reshape(self.base[k].shape),
+                        casting="same_kind")
+        return out
+
+    @cached_property
     def uv(self):
         """(N, 2) float32 projector-space grid coordinates (§2.4 step 5)."""
         if not self.visible:

@@ -59,6 +59,18 @@ def sea_state(force, wind_direction=0.0):
                      swell_period=period)
 
 
+# How much of the sky the Sea State operator clouds over with the force (shaders/sky.weather):
+# clear to a fresh breeze, closing over a strong breeze and a near gale, a low overcast from a
+# gale on (a look, not the WMO's: its descriptions are of the sea alone).
+OVERCAST_FORCES = (5, 8)
+
+
+def overcast(force):
+    """The sky's cloud for Beaufort `force`: 0 up to OVERCAST_FORCES[0], 1 from [1]."""
+    lo, hi = OVERCAST_FORCES
+    return min(max((integer("beaufort", force, 0, 10) - lo) / (hi - lo), 0.0), 1.0)
+
+
 # The shortest first octave the noise takes (m): the panel's Wave Scale minimum.
 WAVE_SCALE_MIN = 0.01
 

@@ -5,7 +5,10 @@ reference renders compare across 4.5 and 5.x, and a glow around the sun: the lig
 scatters forward, by the Henyey-Greenstein phase function (1 - g^2) / (1 + g^2 - 2 g cos)^1.5
 of the angle to the sun, which brightens the sky toward a low sun as in photographs. The glow
 follows the scene's sun lamp (`aim_glow`, from the frame handler) and goes out without one.
-The water reflects it all (§3.4.3).
+Under cloud (`weather`: the Sea State operator's storm) it gives way to an overcast whose
+brightness grows with the height as the CIE standard overcast sky's, (1 + 2 sin h) / 3 of the
+zenith's (Moon and Spencer 1942), and the sun lamp dims behind it. The water reflects it all
+(§3.4.3).
 """
 
 import math
@@ -13,7 +16,7 @@ import math
 import bpy
 
 from ..projgrid_addon.look import SUN_ELEVATION, SUN_STRENGTH
-from .nodes import TAG, Graph, empty_tree
+from .nodes import TAG, Graph, empty_tree, socket
 
 WORLD = "Projected Grid Sky"
 SUN = "Projected Grid Sun"
@@ -25,6 +28,11 @@ BACKGROUND = "Background"  # the world's Background node: its Strength scales th
 GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun (0: no sun)
 GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)
 GLOW_COLOUR = (0.03, 0.0276, 0.024)  # linear, times the phase function: warm, as sunlight
+OVERCAST = "Overcast"  # the Mix node from the clear sky to the overcast (its factor: how much)
+OVERCAST_ZENITH = (0.38, 0.40, 0.43)  # linear: a low storm cloud's base overhead
+# The sun lamp under a full overcast: its strength against a clear sky's, and the angle it
+# spreads over (degrees): a bright patch in the cloud, not a disc, so no glitter path.
+SUN_UNDER_CLOUD, SUN_ANGLE = 0.15, (0.5, 40.0)
 
 
 def world():
@@ -53,7 +61,36 @@ def world():
     background.name = BACKGROUND
     output = g.node("ShaderNodeOutputWorld")
     g.set(output.inputs["Surface"], background.outputs[0])
+    _overcast(g)
     return w
+
+
+def _overcast(g):
+    """Put the overcast between the clear sky and the Background of our world's graph `g`, at
+    a factor of 0 (a world made before it had none)."""
+    colour = g.nodes[BACKGROUND].inputs["Color"]
+    clear = colour.links[0].from_socket if colour.links else tuple(colour.default_value)
+    z = g.node("ShaderNodeSeparateXYZ", {0: g.node("ShaderNodeTexCoord").outputs["Generated"]})
+    cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", g.clamp(z.outputs["Z"]), 2.0, 1.0), 3.0)
+    mix = g.node("ShaderNodeMix", {"Factor_Float": 0.0, "A_Color": clear, "B_Color": g.vector(
+        "SCALE", OVERCAST_ZENITH, Scale=cie)}, data_type="RGBA")
+    mix.name = mix.label = OVERCAST
+    g.set(colour, socket(mix.outputs, "Result_Color"))
+    return mix
+
+
+def weather(scene, cloud):
+    """Turn the scene's sky toward an overcast by `cloud` (0 clear, 1 a full overcast) and dim
+    its sun lamp behind it: our world and our sun lamps only, never a library's."""
+    world = scene.world
+    if world is not None and world.get(TAG) and world.library is None and world.node_tree:
+        node = world.node_tree.nodes.get(OVERCAST) or _overcast(Graph(world.node_tree))
+        node.inputs["Factor"].default_value = cloud
+    for obj in scene.objects:
+        light = obj.data if obj.type == "LIGHT" else None
+        if light is not None and light.type == "SUN" and light.get(TAG) and light.library is None:
+            light.energy = SUN_STRENGTH * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud)
+            light.angle = math.radians(SUN_ANGLE[0] + (SUN_ANGLE[1] - SUN_ANGLE[0]) * cloud)
 
 
 def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0, strength=SUN_STRENGTH):
@@ -61,7 +98,7 @@ def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0, strength=SUN_STRENGTH)
     data = bpy.data.lights.new(SUN, "SUN")
     data[TAG] = True
     data.energy = strength
-    data.angle = math.radians(0.5)
+    data.angle = math.radians(SUN_ANGLE[0])
     obj = bpy.data.objects.new(SUN, data)
     # The lamp shines along its local -Z: tilt +Z from straight up down to the elevation.
     obj.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(180.0 + azimuth))
@@ -87,6 +124,6 @@ def aim_glow(world, toward):
     if node is None:
         return
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
-    for socket, value in zip(node.inputs, values, strict=False):
-        if abs(socket.default_value - value) > 1e-6:
-            socket.default_value = value
+    for input_, value in zip(node.inputs, values, strict=False):
+        if abs(input_.default_value - value) > 1e-6:
+            input_.default_value = value

@@ -62,9 +62,12 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 27  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 28  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
+# per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
+# came from, so its patterns ride the waves with the water, not the waves under them
+DRIFT_ATTRIBUTE = "projgrid_drift"
 FOAM_ATTRIBUTE = "projgrid_foam"  # per-vertex foam in [0, 1], written while foam is on
 RESIDUAL_ATTRIBUTE = "projgrid_foam_residual"  # and the residual foam's (residual_foam.py)
 # Per-vertex caustic shadow transparency minus the flat water's, written while caustics are on
@@ -201,12 +204,14 @@ def _build(group):
     # foam as streaks of its top ranks.
     cos_w, sin_w = g.cos(i["Wind Direction"]), g.sin(i["Wind Direction"])
     stretch = g.sqrt(i["Foam Streak"])
+    water = g.vector("SUBTRACT", geo["Position"], g.node(
+        "ShaderNodeAttribute", attribute_name=DRIFT_ATTRIBUTE).outputs["Vector"])
 
     def noise(scale, along, across, churn):
         aligned = g.node("ShaderNodeCombineXYZ", {
-            "X": g.vector("DOT_PRODUCT", geo["Position"], g.node("ShaderNodeCombineXYZ", {
+            "X": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
                 "X": cos_w * along, "Y": sin_w * along}).outputs[0]),
-            "Y": g.vector("DOT_PRODUCT", geo["Position"], g.node("ShaderNodeCombineXYZ", {
+            "Y": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
                 "X": sin_w * -across, "Y": cos_w * across}).outputs[0])}).outputs[0]
         return g.value(g.node("ShaderNodeTexNoise", {
             "Vector": aligned, "W": i["Detail Time"] * (churn / scale), "Scale": scale,

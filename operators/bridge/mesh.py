@@ -17,15 +17,18 @@ def empty(mesh):
 
 
 def write_attribute(mesh, name, values):
-    """Our per-vertex float attribute `name` set to `values`, or removed when None (so a branch
-    another ocean keeps unmuted cannot show stale values)."""
+    """Our per-vertex attribute `name` set to `values` ((N,) floats or (N, 3) vectors), or
+    removed when None (so a branch another ocean keeps unmuted cannot show stale values)."""
     if values is None:
         if name in mesh.attributes:
             mesh.attributes.remove(mesh.attributes[name])
         return
+    kind, field = ("FLOAT_VECTOR", "vector") if values.ndim == 2 else ("FLOAT", "value")
+    if name in mesh.attributes and mesh.attributes[name].data_type != kind:
+        mesh.attributes.remove(mesh.attributes[name])
     if name not in mesh.attributes:
-        mesh.attributes.new(name, "FLOAT", "POINT")
-    mesh.attributes[name].data.foreach_set("value", values)
+        mesh.attributes.new(name, kind, "POINT")
+    mesh.attributes[name].data.foreach_set(field, values.ravel())
 
 
 def set_topology(mesh, nx, ny, flipped=False):
@@ -62,8 +65,9 @@ def grid_arrays(result, to_local, foam, caustics, residual=None):
     arrays = {"grid": np.array([*result.resolution, np.linalg.det(to_local) < 0.0]),
               "position": positions,
               water.LOD_ATTRIBUTE: np.minimum(result.lod, np.float32(64.0))}  # finite
+    drift = result.drift if foam is not None or residual is not None else None  # foam's
     for name, values in ((water.FOAM_ATTRIBUTE, foam), (water.CAUSTIC_ATTRIBUTE, caustics),
-                         (water.RESIDUAL_ATTRIBUTE, residual)):
+                         (water.RESIDUAL_ATTRIBUTE, residual), (water.DRIFT_ATTRIBUTE, drift)):
         if values is not None:
             arrays[name] = values
     return arrays
@@ -83,7 +87,8 @@ def write_arrays(mesh, arrays):
         mesh.attributes["position"].data.foreach_set("vector", arrays["position"].ravel())
         mesh.attributes[water.LOD_ATTRIBUTE].data.foreach_set(
             "value", arrays[water.LOD_ATTRIBUTE])
-        for name in (water.FOAM_ATTRIBUTE, water.CAUSTIC_ATTRIBUTE, water.RESIDUAL_ATTRIBUTE):
+        for name in (water.FOAM_ATTRIBUTE, water.CAUSTIC_ATTRIBUTE, water.RESIDUAL_ATTRIBUTE,
+                     water.DRIFT_ATTRIBUTE):
             write_attribute(mesh, name, arrays.get(name))
         mesh.update()
         mesh.vertices[0].co = mesh.vertices[0].co  # refresh the bounding box after the fast path

@@ -101,6 +101,47 @@ def test_the_sky_glows_toward_the_sun_lamp(extension):
     assert np.allclose(toward(), 0.0, atol=1e-6)
 
 
+def test_a_storm_clouds_add_ocean_s_sky_over(extension):
+    """Sea State turns Add Ocean's sky toward an overcast and dims and spreads its sun as the
+    force asks (clear to a fresh breeze, overcast from a gale), unless Weather is off; a sky
+    made without the overcast gets it; the user's world and sun lamp are left alone."""
+    sky = extension.shaders.sky
+    scene = bpy.context.scene
+    add_camera(scene)
+    add_ocean()
+    sun = next(o for o in scene.objects if o.type == "LIGHT").data
+    overcast = scene.world.node_tree.nodes[sky.OVERCAST].inputs["Factor"]
+    assert overcast.default_value == 0.0
+    for force, cloud in ((4, 0.0), (7, 2.0 / 3.0), (8, 1.0), (5, 0.0)):
+        bpy.ops.projgrid.sea_state(beaufort=force)
+        assert overcast.default_value == pytest.approx(cloud)
+        assert sun.energy == pytest.approx(
+            sky.SUN_STRENGTH * (1.0 - (1.0 - sky.SUN_UNDER_CLOUD) * cloud))
+        assert math.degrees(sun.angle) == pytest.approx(
+            sky.SUN_ANGLE[0] + (sky.SUN_ANGLE[1] - sky.SUN_ANGLE[0]) * cloud, rel=1e-5)
+    bpy.ops.projgrid.sea_state(beaufort=9, weather=False)
+    assert overcast.default_value == 0.0 and sun.energy == pytest.approx(sky.SUN_STRENGTH)
+    tree = scene.world.node_tree  # as made before the overcast: the clear sky straight in
+    old = tree.nodes[sky.OVERCAST]
+    clear = next(s for s in old.inputs if s.identifier == "A_Color").links[0].from_socket
+    tree.nodes.remove(old)
+    tree.links.new(clear, tree.nodes[sky.BACKGROUND].inputs["Color"])
+    bpy.ops.projgrid.sea_state(beaufort=10)
+    assert scene.world.node_tree.nodes[sky.OVERCAST].inputs["Factor"].default_value == 1.0
+    background = scene.world.node_tree.nodes[sky.BACKGROUND].inputs["Color"]
+    assert background.links[0].from_node.name == sky.OVERCAST
+    assert next(s for s in background.links[0].from_node.inputs
+                if s.identifier == "A_Color").links[0].from_socket == clear
+    mine = bpy.data.worlds.new("Mine")
+    scene.world = mine
+    lamp = next(o for o in scene.objects if o.type == "LIGHT")
+    lamp.data = bpy.data.lights.new("My Sun", "SUN")
+    lamp.data.energy = 7.0
+    bpy.ops.projgrid.sea_state(beaufort=10)
+    assert (mine.node_tree is None or sky.OVERCAST not in mine.node_tree.nodes)
+    assert lamp.data.energy == 7.0
+
+
 def test_settings_are_refused_outside_their_range():
     add_camera(bpy.context.scene)
     s = add_ocean().projgrid

@@ -194,13 +194,13 @@ GROWING = (2, 5, 8)  # light breeze, fresh breeze, gale: their look grows with t
 def test_sea_states(tmp_path):
     """Each Beaufort preset against its reference (camera 20 m up, the sun behind it: no glint),
     and the pictures follow the wind: the water's contrast (slopes turning the reflected sky) and
-    its whitecaps grow with the force."""
+    its whitecaps grow with the force (under the same sky: Weather off)."""
     scene = bpy.context.scene
     cam = default_shot(scene, size=(240, 135), samples=4, height=20.0, pitch=-12.0)
     cam.rotation_euler.z = math.radians(180.0)
     contrast, white = {}, {}
     for force in SEA_STATES:
-        bpy.ops.projgrid.sea_state(beaufort=force)
+        bpy.ops.projgrid.sea_state(beaufort=force, weather=False)
         scene.frame_set(24)
         path = str(tmp_path / f"beaufort_{force}.png")
         scene.render.filepath = path

@@ -127,3 +127,17 @@ def test_a_low_camera_in_a_gale_spends_its_vertices_on_the_screen(height, pitch,
     evened = [r.efficiency for r in frames((65, 129))]
     assert np.median(followed) >= max(0.5, 2.0 * np.median(evened)), (followed, evened)
     assert np.median(far) >= 0.5, far
+
+
+def test_the_drift_is_how_far_the_choppy_waves_moved_each_vertex():
+    """GridResult.drift: each vertex's sideways displacement from its grid point, so the
+    position less the drift is where the water came from (the foam's noises are taken there);
+    none without choppiness."""
+    state = SeaState(wind_speed=15.0)
+    r = build_grid(CAM, SpectralField(state, choppiness=1.0), time=3.0, resolution=(33, 65))
+    drift = r.drift
+    assert drift.shape == r.positions.shape and drift.dtype == np.float32
+    came_from = r.positions[:, :2] - drift[:, :2] + r.origin[:2]
+    assert np.allclose(came_from, np.stack([b.ravel() for b in r.base], axis=-1), atol=1e-2)
+    assert not drift[:, 2].any() and np.abs(drift[:, :2]).max() > 0.1
+    assert build_grid(CAM, SpectralField(state), time=3.0, resolution=(33, 65)).drift is None

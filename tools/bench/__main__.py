@@ -26,7 +26,7 @@ def main(quick=False, only=None):
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
     import bpy
 
-    from tools import beaufort
+    from tools import beaufort, storm_strip
     from tools.demo import install
     from tools.package import build
 
@@ -73,7 +73,8 @@ def main(quick=False, only=None):
             reference_samples=16 if quick else 128)),
         ("flicker", lambda: render_bench.flicker(DOCS, frames=3 if quick else 4)),
         ("storm", lambda: storm_bench.storm_cost(quick)),  # its own processes
-        ("beaufort", lambda: beaufort.shoot(DOCS, quick)),  # these two start from empty files
+        ("beaufort", lambda: beaufort.shoot(DOCS, quick)),  # these three start from empty files
+        ("strip", lambda: storm_strip.shoot(DOCS, quick)),
         ("pictures", lambda: pictures(quick)),
     ]
     if only:  # re-measure some steps, keep the others from the last run

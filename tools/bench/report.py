@@ -23,6 +23,7 @@ from .report_render import (
     _render,
     _scene_update,
     _storm,
+    _strip,
 )
 
 # The measurements behind design choices were taken once and are not re-run by the bench: they
@@ -360,7 +361,7 @@ SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
             ("scene_update", _scene_update), ("moving_objects", _moving_objects),
             ("sea", _sea), ("bake", _bake),
-            ("pictures", _pictures), ("beaufort", _beaufort), ("storm", _storm),
+            ("pictures", _pictures), ("beaufort", _beaufort), ("strip", _strip), ("storm", _storm),
             ("memory", _memory))
 
 

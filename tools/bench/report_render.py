@@ -361,3 +361,16 @@ def _storm(report):
                       ("p10 ms", "p10", ".1f"), ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",
         _table(storm["ratios"], [("variant", "variant", ""), ("ratio", "what", ""),
                                  ("median", "ratio", ".2f"), ("p10", "ratio_p10", ".2f")]), ""]
+
+
+def _strip(report):
+    """A storm building over a shot (tools/storm_strip.py), after section 12's forces."""
+    strip = report.results["strip"]
+    steps = ", ".join(f"{r['time']:g} s: {r['wind']:.1f} m/s (force {r['force']})"
+                      for r in strip["rows"])
+    report.md += [
+        "### A storm building", "",
+        "The wind keyed from Beaufort 3 to 9 over ten seconds (force 9's fetch and choppiness), "
+        "the sky keyed from clear to overcast as Sea State's Weather sets each force's, from "
+        f"20 m up (8° down), left to right in time: {steps}. `tools/storm_strip.py`.", "",
+        f"![A storm building, Beaufort 3 to 9 in ten seconds]({strip['path']})", ""]

@@ -1,0 +1,92 @@
+"""A storm building over a shot: the wind keyed from Beaufort 3 to 9 over ten seconds (the sea
+state of force 9 otherwise, so its fetch and choppiness), the sky keyed from clear to overcast
+with it as Sea State's Weather sets each force's, rendered at six times from 20 m up and put
+side by side in docs/storm_strip.png, left to right in time.
+
+`make bench` runs it (step `strip`); alone: python -m tools.storm_strip [out_dir] [--quick]."""
+
+import os
+import sys
+import tempfile
+
+FORCES = (3, 9)
+SECONDS = 10.0
+TIMES = (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
+HEIGHT, PITCH = 20.0, -8.0
+
+
+def _key_weather(scene, frame, force):
+    """Sea State's weather for `force` at `frame`, keyed on our sky's overcast and sun."""
+    from tools.bench.blender_bench import extension
+
+    ext = extension()
+    ext.shaders.sky.weather(scene, ext.projgrid_addon.sea_states.overcast(force))
+    node = scene.world.node_tree.nodes[ext.shaders.sky.OVERCAST]
+    node.inputs["Factor"].keyframe_insert("default_value", frame=frame)
+    for obj in scene.objects:
+        if obj.type == "LIGHT":
+            obj.data.keyframe_insert("energy", frame=frame)
+            obj.data.keyframe_insert("angle", frame=frame)
+
+
+def shoot(out, quick=False):
+    """Render the strip into `out` (the extension installed); returns its rows (time, wind,
+    force) and the picture's name."""
+    import bpy
+    import numpy as np
+
+    from projgrid_addon import sea_states
+    from tools.beaufort import render
+    from tools.demo import default_shot
+
+    size, samples = ((160, 90), 4) if quick else ((320, 180), 16)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    default_shot(scene, size=size, samples=samples, height=HEIGHT, pitch=PITCH)
+    ocean = bpy.data.objects["Ocean"]
+    bpy.context.view_layer.objects.active = ocean
+    bpy.ops.projgrid.sea_state(beaufort=FORCES[1])
+    bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
+    fps = scene.render.fps / scene.render.fps_base
+    frames = [1 + round(t * fps) for t in (0.0, SECONDS)]
+    for frame, force in zip(frames, FORCES, strict=True):
+        ocean.projgrid.wind_speed = sea_states.BEAUFORT[force][1]
+        ocean.projgrid.keyframe_insert("wind_speed", frame=frame)
+        _key_weather(scene, frame, force)
+    work = tempfile.mkdtemp(prefix="projgrid-strip-")
+    tiles, rows = [], []
+    for t in TIMES:
+        frame = 1 + round(t * fps)
+        scene.frame_set(frame)
+        wind = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid.wind_speed
+        force = min(sea_states.BEAUFORT, key=lambda f: abs(sea_states.BEAUFORT[f][1] - wind))
+        path = os.path.join(work, f"strip_{frame}.png")
+        render(scene, path)
+        img = bpy.data.images.load(path)
+        w, h = img.size
+        tiles.append(np.array(img.pixels[:], np.float32).reshape(h, w, 4))
+        bpy.data.images.remove(img)
+        rows.append({"time": t, "frame": frame, "wind": float(wind), "force": force})
+    strip = np.concatenate(tiles, axis=1)
+    name = "storm_strip.png"
+    image = bpy.data.images.new("strip", strip.shape[1], strip.shape[0])
+    image.pixels.foreach_set(strip.ravel())
+    image.filepath_raw = os.path.join(out, name)
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+    return {"rows": rows, "path": name}
+
+
+def main(out, quick=False):
+    os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
+    from tools.demo import install
+    from tools.package import build
+
+    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
+    return shoot(out, quick)
+
+
+if __name__ == "__main__":
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    print(main(args[0] if args else "docs", quick="--quick" in sys.argv))
