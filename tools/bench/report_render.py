@@ -351,11 +351,12 @@ def _storm(report):
         "last before the storm's work: whitecaps alone, no residual foam or streaks, the grid "
         "spread evenly over the projector's span), each in a Blender process of its own, the "
         "two alternated. Per frame: frame_set on a 257² grid, each frame a time of its own, "
-        "the camera still and moving 2 m a frame. Rendered: a frame as a farm renders it, "
-        "alone (a time no earlier frame made: its sea, foam calibrations and residual past "
-        "made in it), EEVEE 960×540, 16 samples, after a render compiled the shaders; and "
-        "this tree's again without its residual foam (stage B: the per-vertex residual not "
-        "made, the water group's residual and streak noises left out). "
+        "the camera still and moving 2 m a frame, the foam's calibrations made in the frame "
+        "(no worker beside it). Rendered: a frame as a farm renders it, alone (a time no "
+        "earlier frame made: its sea, foam calibrations and residual past made in it), EEVEE "
+        "960×540, 16 samples, after a render compiled the shaders; this tree's alternately "
+        "with and without its residual foam (stage B: the per-vertex residual not made, the "
+        "water group's residual and streak noises left out). "
         "`tools/bench/storm_bench.py`.", "",
         _table(rows, [("variant", "variant", ""), ("tree", "tree", ""), ("ms", "ms", ".1f"),
                       ("p10 ms", "p10", ".1f"), ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",

@@ -3,10 +3,12 @@ rendered frame, this tree beside BASELINE (the commit before issue 36's work: wh
 no residual foam, no streaks, the even grid), each in its own Blender process, the two
 alternated ROUNDS times so the machine's load falls on both alike.
 
-Per frame: frame_set on a 257² grid from 5 m up, the camera still and moving (2 m a frame).
-Rendered: a frame rendered alone as a farm renders it (a time no earlier frame has made:
-its sea, calibrations and residual foam's past made in it), frame_set and the EEVEE render of
-the default shot at 960×540, 16 samples, after one render compiles the shaders.
+Per frame: frame_set on a 257² grid from 5 m up, the camera still and moving (2 m a frame),
+the foam's calibrations made in the frame (no worker beside it). Rendered: a frame rendered
+alone as a farm renders it (a time no earlier frame has made: its sea, calibrations and
+residual foam's past made in it), the EEVEE render of the default shot at 960×540, 16
+samples, after one render compiles the shaders; in this tree alternately with and without
+its residual foam (stage B).
 
 Alone: python -m tools.bench.storm_bench (the probe: python tools/bench/storm_bench.py --root R)."""
 
@@ -101,9 +103,11 @@ def _stage_b_switch(bpy):
 def probe(root, quick):
     """In a fresh process: install `root`'s extension and time its gale; prints JSON."""
     sys.path.insert(0, root)
+    import importlib
+
     import bpy
 
-    from tools.demo import default_shot, install
+    from tools.demo import MODULE, default_shot, install
     from tools.package import build
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
@@ -128,26 +132,34 @@ def probe(root, quick):
         scene.frame_set(first)
         return scene
 
+    # No calibrations ahead on the worker while frames are timed (its thread would take the
+    # second core from the frame): a frame starting a second makes them, in both trees.
+    ahead = importlib.import_module(MODULE + ".operators.bridge.ahead")
+    calibrate, ahead.calibrate = ahead.calibrate, (lambda *a, **k: 0)
     for moving in (False, True):
         scene = gale(257, moving)
+        ahead.finish()
         name = f"frame 257², camera {'moving' if moving else 'still'}"
         out[name] = [_timed(lambda f=f, s=scene: s.frame_set(f))
                      for f in range(scene.frame_current + 1, scene.frame_current + 1 + frames)]
+    ahead.calibrate = calibrate
     scene = gale(first=48)
-    bpy.ops.render.render()  # compiles the shaders
+    stage_b = _stage_b_switch(bpy)
+    for on in (False, True) if stage_b is not None else (True,):
+        if stage_b is not None:
+            stage_b(on)
+        bpy.ops.render.render()  # compiles the shaders
 
-    def alone(frame):  # as `blender -b -f`: the render sets the frame
+    def alone(frame, on):  # as `blender -b -f`: the render sets the frame
+        if stage_b is not None:
+            stage_b(on)
         scene.frame_current = frame
         bpy.ops.render.render()
-    renders = range(1000, 1000 + (1 if quick else 3) * 500, 500)
-    out["frame rendered alone, 960×540"] = [_timed(lambda f=f: alone(f)) for f in renders]
-    stage_b = _stage_b_switch(bpy)
-    if stage_b is not None:  # this tree: the same frames without the residual foam
-        stage_b(False)
-        bpy.ops.render.render()  # compiles the shaders without it
-        out["frame rendered alone, 960×540" + NO_B] = [
-            _timed(lambda f=f: alone(f + 250)) for f in renders]
-        stage_b(True)
+    # this tree's with and without its residual foam alternated, each frame a time of its own
+    for frame in range(1000, 1000 + (1 if quick else 3) * 500, 500):
+        for on in (True, False) if stage_b is not None else (True,):
+            out.setdefault("frame rendered alone, 960×540" + ("" if on else NO_B), []).append(
+                _timed(lambda f=frame + (0 if on else 250), o=on: alone(f, o)))
     print(json.dumps(out))
 
 
