@@ -43,8 +43,6 @@ def sea_sample(span, samples=4096):
     return ((gx + 0.37 * gy) % 1.0 * span).ravel(), ((gy + 0.61 * gx) % 1.0 * span).ravel()
 
 
-
-
 def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     """Whitecap thresholds of a height source's foam cue (its `foam_cue`: the height for the
     noise, how far the choppy surface folds for the spectrum), at each of its band limits
@@ -367,7 +365,10 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         lods = result.lod.reshape(xy.shape[1:])
         placed = whitecap_level(source)
         thresholds = foam_thresholds(source, time, coverage)
-        if lods.max() > placed:  # finer: the cue without shorter waves, at every other point
+        # Some vertex finer: the cue without the shorter waves, sampled again at every other
+        # point each way over the whole grid (so a band limit one lower everywhere, the far
+        # rows' too, where the grid's own cue would do).
+        if lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
                 residual_foam.cue_at(source, points, time, at), at, thresholds),
                 xy, lods, 1, placed)

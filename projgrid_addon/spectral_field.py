@@ -279,7 +279,7 @@ class SpectralField:
         on_grid = on_grid and lod2 is not None and len(shape) == 2
         lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
                 for level, along, _ in self.groups]
-        step = max(1, CHUNK // out2.shape[-1] // len(times))
+        step = max(1, CHUNK // out2.shape[-1])  # whatever the times: the same chunks
         for start in range(0, out2.shape[2], step):
             band = slice(start, start + step)
             origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])

@@ -79,16 +79,23 @@ def _overcast(g):
     return mix
 
 
+def _ours(block):
+    """Whether `block` (a world or a lamp) is one we made and may write: not a library's, nor
+    a library override's."""
+    return (block is not None and bool(block.get(TAG)) and block.library is None
+            and block.override_library is None)
+
+
 def weather(scene, cloud):
     """Turn the scene's sky toward an overcast by `cloud` (0 clear, 1 a full overcast) and dim
-    its sun lamp behind it: our world and our sun lamps only, never a library's."""
+    its sun lamp behind it: our world and our sun lamps only (`_ours`)."""
     world = scene.world
-    if world is not None and world.get(TAG) and world.library is None and world.node_tree:
+    if _ours(world) and world.node_tree:
         node = world.node_tree.nodes.get(OVERCAST) or _overcast(Graph(world.node_tree))
         node.inputs["Factor"].default_value = cloud
     for obj in scene.objects:
         light = obj.data if obj.type == "LIGHT" else None
-        if light is not None and light.type == "SUN" and light.get(TAG) and light.library is None:
+        if light is not None and light.type == "SUN" and _ours(light):
             light.energy = SUN_STRENGTH * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud)
             light.angle = math.radians(SUN_ANGLE[0] + (SUN_ANGLE[1] - SUN_ANGLE[0]) * cloud)
 
@@ -119,8 +126,8 @@ def strength(world):
 def aim_glow(world, toward):
     """Point our world's glow at the sun: `toward` the unit vector to it, None without a sun.
     Another world, or a library's, is left alone."""
-    node = (world.node_tree.nodes.get(GLOW) if world is not None and world.get(TAG)
-            and world.library is None and world.node_tree is not None else None)
+    node = (world.node_tree.nodes.get(GLOW) if _ours(world) and world.node_tree is not None
+            else None)
     if node is None:
         return
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)

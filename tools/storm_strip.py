@@ -1,6 +1,6 @@
 """A storm building over a shot: the wind keyed from Beaufort 3 to 9 over ten seconds (the sea
-state of force 9 otherwise, so its fetch and choppiness), the sky keyed from clear to overcast
-with it as Sea State's Weather sets each force's, rendered at six times from 20 m up and put
+state of force 9 otherwise, so its fetch and choppiness), the sky keyed at each shot to the
+weather Sea State sets for the force the wind is at, rendered at six times from 20 m up and put
 side by side in docs/storm_strip.png, left to right in time.
 
 `make bench` runs it (step `strip`); alone: python -m tools.storm_strip [out_dir] [--quick]."""
@@ -29,6 +29,11 @@ def _key_weather(scene, frame, force):
             obj.data.keyframe_insert("angle", frame=frame)
 
 
+def _force(sea_states, wind):
+    """The Beaufort force whose wind (the middle of its range) is nearest `wind`."""
+    return min(sea_states.BEAUFORT, key=lambda f: abs(sea_states.BEAUFORT[f][1] - wind))
+
+
 def shoot(out, quick=False):
     """Render the strip into `out` (the extension installed); returns its rows (time, wind,
     force) and the picture's name."""
@@ -49,17 +54,20 @@ def shoot(out, quick=False):
     bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
     fps = scene.render.fps / scene.render.fps_base
     frames = [1 + round(t * fps) for t in (0.0, SECONDS)]
-    for frame, force in zip(frames, FORCES, strict=True):
-        ocean.projgrid.wind_speed = sea_states.BEAUFORT[force][1]
+    winds = [sea_states.BEAUFORT[force][1] for force in FORCES]
+    for frame, wind in zip(frames, winds, strict=True):
+        ocean.projgrid.wind_speed = wind
         ocean.projgrid.keyframe_insert("wind_speed", frame=frame)
-        _key_weather(scene, frame, force)
+    for t in TIMES:  # the weather of the force the keyed wind is at, at each shot
+        wind = np.interp(t, (0.0, SECONDS), winds)
+        _key_weather(scene, 1 + round(t * fps), _force(sea_states, wind))
     work = tempfile.mkdtemp(prefix="projgrid-strip-")
     tiles, rows = [], []
     for t in TIMES:
         frame = 1 + round(t * fps)
         scene.frame_set(frame)
         wind = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid.wind_speed
-        force = min(sea_states.BEAUFORT, key=lambda f: abs(sea_states.BEAUFORT[f][1] - wind))
+        force = _force(sea_states, wind)
         path = os.path.join(work, f"strip_{frame}.png")
         render(scene, path)
         img = bpy.data.images.load(path)

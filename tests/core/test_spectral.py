@@ -365,3 +365,20 @@ def test_a_keyed_wind_changes_the_sea_smoothly():
             assert worst <= most, worst
         else:
             assert worst > 5.0, worst  # the measure sees the jumps it guards against
+
+
+def test_several_times_sample_as_each_alone(monkeypatch):
+    """SpectralField.sample over a tuple of times gives each time's values as sampled alone,
+    in chunks whatever the number of times (the residual foam asks for the times it lacks: a
+    cache must not change what is drawn)."""
+    from projgrid_addon import spectral_field
+
+    monkeypatch.setattr(spectral_field, "CHUNK", 700)  # several chunks of rows
+    source = SpectralField(SeaState(wind_speed=15.0), choppiness=1.0, seed=3)
+    xy = np.stack(np.meshgrid(np.linspace(0.0, 300.0, 40), np.linspace(0.0, 200.0, 30)))
+    lod = np.full(xy.shape[1:], 2.5, np.float32)
+    times = (1.0, 2.5, 4.0)
+    together = source.sample(xy, times, lod, (1, 2), on_grid=True)
+    assert together.shape == (3, 2, 30, 40)
+    for t, values in zip(times, together, strict=True):
+        assert np.array_equal(values, source.sample(xy, t, lod, (1, 2), on_grid=True))

@@ -361,8 +361,8 @@ SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy
             ("efficiency", _efficiency), ("render", _render), ("effects", _effects),
             ("scene_update", _scene_update), ("moving_objects", _moving_objects),
             ("sea", _sea), ("bake", _bake),
-            ("pictures", _pictures), ("beaufort", _beaufort), ("strip", _strip), ("storm", _storm),
-            ("memory", _memory))
+            ("pictures", _pictures), ("beaufort", _beaufort), ("strip", _strip),
+            ("memory", _memory), ("storm", _storm))
 
 
 def write(results, docs):

@@ -337,8 +337,10 @@ def _storm(report):
                 f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
                 "screen (waves to the horizon), so more vertices are near and detailed, each "
                 "with more bands to sample; the whitecaps take the waves longer than 8 m alone, "
-                "a second sampling of the sea, and the residual foam its past samples (a "
-                "moving camera's grid is new each frame, so none is kept)."))
+                "a second sampling of the sea" + (
+                    ", and the residual foam's past samples are new each frame (a moving "
+                    "camera's grid is new)." if camera == "moving" else
+                    " (the residual foam's past samples are kept while the camera stays).")))
         if r["what"] == "with stage B / without":
             report.targets.append(Target(
                 "A gale rendered with its residual foam (stage B) ≤ 1.1× without it",
@@ -372,6 +374,7 @@ def _strip(report):
     report.md += [
         "### A storm building", "",
         "The wind keyed from Beaufort 3 to 9 over ten seconds (force 9's fetch and choppiness), "
-        "the sky keyed from clear to overcast as Sea State's Weather sets each force's, from "
+        "the sky keyed at each shot to the weather Sea State sets for the force the wind is at, "
+        "from "
         f"20 m up (8° down), left to right in time: {steps}. `tools/storm_strip.py`.", "",
         f"![A storm building, Beaufort 3 to 9 in ten seconds]({strip['path']})", ""]

@@ -46,6 +46,7 @@ def storm_cost(quick=False):
     finally:
         subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", base],
                        capture_output=True)
+        subprocess.run(["git", "-C", ROOT, "worktree", "prune"], capture_output=True)
     import numpy as np
 
     rows = []
@@ -121,7 +122,10 @@ def probe(root, quick):
                            pitch=-4.0)
         ocean = bpy.data.objects["Ocean"]
         bpy.context.view_layer.objects.active = ocean
-        bpy.ops.projgrid.sea_state(beaufort=8)
+        try:  # under the same sky as the baseline (whose Sea State has no Weather)
+            bpy.ops.projgrid.sea_state(beaufort=8, weather=False)
+        except TypeError:
+            bpy.ops.projgrid.sea_state(beaufort=8)
         if resolution:
             ocean.projgrid.resolution_x = ocean.projgrid.resolution_y = resolution
         if moving:
