@@ -102,7 +102,8 @@ def every_other_of(a, out):
 
 def fill_every_other(coarse, out):
     """Values at every_other(rows) x every_other(columns) of `out` (rows, columns) spread into
-    all of it, each point between two samples their mean (linear interpolation on the grid)."""
+    all of it, each point between two samples their mean (linear interpolation on the grid);
+    what `out` held before is never read."""
     rows, cols = out.shape
     r2, c2 = (rows + 1) // 2, (cols + 1) // 2
     out[0::2, 0::2] = coarse[:r2, :c2]
@@ -112,9 +113,10 @@ def fill_every_other(coarse, out):
         out[-1, 0::2] = coarse[-1, :c2]
         if cols % 2 == 0:
             out[-1, -1] = coarse[-1, -1]
-    mid = out[:, 1:cols - 1:2]
-    np.add(out[:, 0:cols - 2:2], out[:, 2:cols:2], out=mid)
-    mid *= 0.5
+    for samples in (out[0::2], out[-1:]) if rows % 2 == 0 else (out[0::2],):  # rows sampled
+        mid = samples[:, 1:cols - 1:2]
+        np.add(samples[:, 0:cols - 2:2], samples[:, 2:cols:2], out=mid)
+        mid *= 0.5
     mid = out[1:rows - 1:2]
     np.add(out[0:rows - 2:2], out[2:rows:2], out=mid)
     mid *= 0.5
