@@ -89,15 +89,17 @@ def shoot(out, quick=False):
     return rows
 
 
-def main(out, quick=False):
+def standalone(shoot):
+    """Run a picture tool's `shoot(out, quick)` from the command line ([out_dir] [--quick]),
+    the extension built and installed in a private user directory first."""
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
     from tools.demo import install
     from tools.package import build
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
-    return shoot(out, quick)
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    return shoot(args[0] if args else "docs", "--quick" in sys.argv)
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    main(args[0] if args else "docs", quick="--quick" in sys.argv)
+    standalone(shoot)

@@ -6,7 +6,6 @@ side by side in docs/storm_strip.png, left to right in time.
 `make bench` runs it (step `strip`); alone: python -m tools.storm_strip [out_dir] [--quick]."""
 
 import os
-import sys
 import tempfile
 
 FORCES = (3, 9)
@@ -59,8 +58,9 @@ def shoot(out, quick=False):
         ocean.projgrid.wind_speed = wind
         ocean.projgrid.keyframe_insert("wind_speed", frame=frame)
     for t in TIMES:  # the weather of the force the keyed wind is at, at each shot
-        wind = np.interp(t, (0.0, SECONDS), winds)
-        _key_weather(scene, 1 + round(t * fps), _force(sea_states, wind))
+        scene.frame_set(1 + round(t * fps))
+        wind = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid.wind_speed
+        _key_weather(scene, scene.frame_current, _force(sea_states, wind))
     work = tempfile.mkdtemp(prefix="projgrid-strip-")
     tiles, rows = [], []
     for t in TIMES:
@@ -86,15 +86,7 @@ def shoot(out, quick=False):
     return {"rows": rows, "path": name}
 
 
-def main(out, quick=False):
-    os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
-    from tools.demo import install
-    from tools.package import build
-
-    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
-    return shoot(out, quick)
-
-
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    print(main(args[0] if args else "docs", quick="--quick" in sys.argv))
+    from tools.beaufort import standalone
+
+    print(standalone(shoot))
