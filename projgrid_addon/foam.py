@@ -11,7 +11,7 @@ import weakref
 
 import numpy as np
 
-from . import residual_foam
+from . import residual_foam, streaks
 from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
@@ -231,44 +231,17 @@ def active_coverage(source, wind_speed):
         residual_foam.decay_time(source))
 
 
-# m/s: the winds over which the aged foam's streaks draw out along the wind, from round
-# patches (Beaufort 6's 10.8-13.8 m/s: "white foam crests everywhere") to STREAK_MOST times
-# longer than wide (Beaufort 8, from 17.2 m/s: "foam blown in well-marked streaks"; WMO), and
-# gather more of the residual foam (`streak_share`).
-STREAK_WINDS = (12.0, 17.5)
-STREAK_MOST = 6.0
-STREAK_SHARE_MOST = 0.6
-
-
-def _streak_ramp(wind_speed):
-    """0 to 1 over STREAK_WINDS."""
-    return min(max((float(wind_speed) - STREAK_WINDS[0]) / (STREAK_WINDS[1] - STREAK_WINDS[0]),
-                   0.0), 1.0)
-
-
-def foam_streak(wind_speed):
-    """How many times longer along the wind than across it the aged foam's streaks are."""
-    return 1.0 + (STREAK_MOST - 1.0) * _streak_ramp(wind_speed)
-
-
-def streak_share(wind_speed):
-    """The share of the residual foam drawn as streaks, not where it fell: the aged foam
-    (residual_foam.aged_share), and from STREAK_WINDS[0] up, as the streaks draw out, up to
-    STREAK_SHARE_MOST of the young foam's too (WMO: streaks from Beaufort 7, well marked at
-    8, dense at 9, the sea white with them at 10), within Monahan's whitecap coverage."""
-    aged = residual_foam.aged_share()
-    return aged + (1.0 - aged) * STREAK_SHARE_MOST * _streak_ramp(wind_speed)
-
-
 def foam_look(source, wind_speed):
     """The water group's foam inputs (water_model.values): the mean share of the sea the
     active whitecaps cover (`active_coverage`); of the rest, their residual foam, the young
     foam's placed at the points and the aged foam's drawn in streaks
-    (`streak_share`); and the streaks' stretch along the wind (`foam_streak`)."""
+    (streaks.streak_share); the streaks' stretch along the wind (streaks.foam_streak); and the
+    share the wind's blown streaks cover besides (streaks.blown_coverage)."""
     active = active_coverage(source, wind_speed)
     residual = foam_coverage(wind_speed) - active
-    aged = residual * streak_share(wind_speed)
-    return active, residual - aged, aged, foam_streak(wind_speed)
+    aged = residual * streaks.streak_share(wind_speed)
+    return (active, residual - aged, aged, streaks.foam_streak(wind_speed),
+            streaks.blown_coverage(wind_speed))
 
 
 def contact_foam(x, y, z, boxes, width):
@@ -377,7 +350,7 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         residual = residual_foam.residual(
             source, xy, lods, time, lambda at: at_thresholds(at, thresholds),
             residual_foam.decay_time(source), _grid_key(result),
-            (1.0 - streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
+            (1.0 - streaks.streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))

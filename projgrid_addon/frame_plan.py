@@ -18,7 +18,6 @@ import numpy as np
 from . import effects, foam, memory, optics, shading
 from .camera import Camera
 from .height_field import HeightField
-from .look import DAYLIGHT, DAYLIGHT_SUN
 from .projected_grid import build_grid
 from .sea_states import noise_waves
 from .spectral_field import SpectralField
@@ -93,6 +92,7 @@ class FrameInputs:
     facts: effects.SceneFacts  # its `bound` unset: the plan gives the sea's
     sun_light: tuple  # RGB irradiance the sun lamp puts on the mean sea plane (0: no sun)
     sky_strength: float  # the world's strength
+    sky_overcast: float  # how far our sky world is turned to the overcast (0 clear, 1 full)
     wind_samples: tuple | None  # (frames, speeds, directions) of a keyframed wind since 0
     vertices: int  # the drawing mesh's vertices now (memory.check_grid)
     our_material: bool  # the mesh draws our water material (else no slope layer is made)
@@ -156,7 +156,7 @@ def plan(inputs):
         layer = (hf.layer.slopes(t), hf.layer.lookups(origin),
                  [(b.level, b.top_log, b.bottom_log) for b in hf.layer.bands], origin)
     light = optics.body_light(np.asarray(inputs.sun_light, dtype=np.float64),
-                              inputs.sky_strength, DAYLIGHT, DAYLIGHT_SUN)
+                              optics.sky_irradiance(inputs.sky_strength, inputs.sky_overcast))
     return FramePlan(
         camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=bound,
         whitecaps=whitecaps, residual=residual, caustics=caustics, godrays=godrays,

@@ -25,9 +25,11 @@ FOAM_RANK = (1.522, 0.0963)
 FOAM_EDGE = 0.5
 FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a little drawn out
 # The young residual foam's noise, features per metre (round rafts of foam, shrinking), and
-# the aged foam's streak noise (the geometric mean of along and across the wind: Foam Streak
-# times longer along than across); both the grain's fractal.
-FOAM_LACE, FOAM_AGED = 0.25, 0.1
+# the streak noise of the aged and the blown foam (the geometric mean of along and across the
+# wind: Foam Streak times longer along than across), whose ridges they cover: at a gale's
+# stretch (10) its lines lie some 10 m apart across the wind, about a metre wide at a gale's
+# share, wider as it grows (pixels: tests/blender/test_shots.py); both the grain's fractal.
+FOAM_LACE, FOAM_AGED = 0.25, 0.03
 FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 # Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and
@@ -47,6 +49,9 @@ WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in 
 DAYLIGHT = (1.2865, 1.7202, 2.7205)
 # Of it, the sun lamp's (white).
 DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
+# Linear radiance of the overcast overhead (Sea State's storm sky, shaders/sky.py): a low storm
+# cloud's base; toward the horizon a third of it (the CIE standard overcast sky).
+OVERCAST_ZENITH = (0.38, 0.40, 0.43)
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 # Residual foam (stage B) against active: it reflects less as its bubbles thin (Koepke 1984:
 # 0.22 over a whitecap's life against ~0.5 fresh); drawn much dimmer it reads as grey haze.

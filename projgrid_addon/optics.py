@@ -8,6 +8,7 @@ in the water sees."""
 import numpy as np
 
 from .effects import submerged
+from .look import DAYLIGHT, DAYLIGHT_SUN, OVERCAST_ZENITH
 from .projected_grid import grid_area, grid_derivative
 from .validation import positive
 
@@ -27,16 +28,26 @@ def absorption(clarity):
     return tuple(a * CLARITY / clarity for a in ABSORPTION)
 
 
-def body_light(sun_irradiance, sky_strength, daylight, daylight_sun):
+def sky_irradiance(strength, overcast):
+    """RGB irradiance our sky world puts on the sea plane at Background Strength `strength`,
+    turned `overcast` (0 to 1) toward the overcast: the clear sky's part of the daylight
+    (DAYLIGHT less DAYLIGHT_SUN) and the overcast's, whose radiance Z (1 + 2 sin h) / 3 (the
+    CIE standard overcast sky, Z its zenith's: OVERCAST_ZENITH) integrates over the hemisphere,
+    weighed by sin h, to 7 pi / 9 Z."""
+    clear = np.asarray(DAYLIGHT, dtype=np.float64) - DAYLIGHT_SUN
+    cloud = 7.0 * np.pi / 9.0 * np.asarray(OVERCAST_ZENITH, dtype=np.float64)
+    f = min(max(float(overcast), 0.0), 1.0)
+    return max(float(strength), 0.0) * (clear + f * (cloud - clear))
+
+
+def body_light(sun_irradiance, sky_irradiance_, daylight=DAYLIGHT):
     """Per RGB channel, the light on the sea against the daylight the Water Colour is given in:
-    (E_sun + s (D - D_sun)) / D, with E_sun the sun lamp's irradiance on the sea plane (RGB),
-    s the sky's strength against the daylight's sky, D the daylight's irradiance (RGB) and
-    D_sun its sun's. The water body scatters its colour in proportion (its glow, Fleck Eq.
-    17), as the surface's lit body does."""
+    (E_sun + E_sky) / D, with E_sun the sun lamp's irradiance on the sea plane, E_sky the
+    sky's (`sky_irradiance`) and D the daylight's (RGB each). The water body scatters its
+    colour in proportion (its glow, Fleck Eq. 17), as the surface's lit body does."""
     d = np.asarray(daylight, dtype=np.float64)
     sun = np.broadcast_to(np.asarray(sun_irradiance, dtype=np.float64), d.shape)
-    return tuple(float(v) for v in (sun + max(float(sky_strength), 0.0) * (d - daylight_sun))
-                 / d)
+    return tuple(float(v) for v in (sun + np.asarray(sky_irradiance_, dtype=np.float64)) / d)
 
 
 # Caustic shadow transparency of flat water; focused light rises to 1 (the most a shadow passes).

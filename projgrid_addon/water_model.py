@@ -54,11 +54,12 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Wind Direction", "NodeSocketFloat", 0.0),  # radians, counter-clockwise from +X
     # The share of the sea the active whitecaps cover, their young residual foam's and their
     # aged foam's, and how much longer along the wind than across the residual's lace and
-    # streaks are (foam.foam_look).
+    # streaks are, and the share the wind's blown streaks cover besides (foam.foam_look).
     ("Foam Coverage", "NodeSocketFloat", 0.0),
     ("Residual Coverage", "NodeSocketFloat", 0.0),
     ("Aged Coverage", "NodeSocketFloat", 0.0),
     ("Foam Streak", "NodeSocketFloat", 1.0),
+    ("Blown Coverage", "NodeSocketFloat", 0.0),
     # The filtering of the waves too short to draw into roughness (shading.Filtering).
     ("Pixel Log", "NodeSocketFloat", -6.0),
     ("Cos Floor", "NodeSocketFloat", 0.1),
@@ -94,10 +95,10 @@ def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, l
     """The group's float inputs for a frame: the filtering of the waves too short to draw
     (shading.Filtering), the left-out octaves and the ripples (shading.Detail; None: the
     defaults), the wind's direction (radians), the foam's (active, residual and aged shares,
-    streak: foam.foam_look; None: no foam), and the slope layer's bands ((level, top log,
-    bottom log) each; those missing draw nothing)."""
+    streak, blown share: foam.foam_look; None: no foam), and the slope layer's bands ((level,
+    top log, bottom log) each; those missing draw nothing)."""
     f = filtering
-    foam = (0.0, 0.0, 0.0, 1.0) if foam is None else foam
+    foam = (0.0, 0.0, 0.0, 1.0, 0.0) if foam is None else foam
     out = {
         "Pixel Log": f.pixel_log, "Distance Power": f.distance_power, "Cos Floor": f.cos_floor,
         "Slope Floor": f.floor, "Ripple Slopes": f.ripple, "Slope Density": f.density,
@@ -108,7 +109,8 @@ def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, l
         "Layer Top Log": f.layer_top_log, "Layer Density": f.layer_density,
         "Gust Amplitude": f.gust, "Gust Norm": f.gust_norm,
         "Wind Direction": wind_direction, "Foam Coverage": foam[0],
-        "Residual Coverage": foam[1], "Aged Coverage": foam[2], "Foam Streak": foam[3]}
+        "Residual Coverage": foam[1], "Aged Coverage": foam[2], "Foam Streak": foam[3],
+        "Blown Coverage": foam[4]}
     if detail is not None:
         out.update({"Detail First Octave": detail.first, "Detail Scale": detail.scale,
                     "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,
@@ -240,6 +242,13 @@ def grain_rank(m, fac):
     return 1.0 / (m.exp(z * (z * z * -FOAM_RANK[1] - FOAM_RANK[0])) + 1.0)
 
 
+def ridge_rank(m, rank):
+    """A rank near the noise's median ranked high: 1 - |2 rank - 1|, as uniform as the rank,
+    so its top ranks are bands along the noise's middle contour: thin lines that branch and
+    join (drawn out along the wind, the foam's streaks), not the blobs of its top ranks."""
+    return 1.0 - m.abs(rank * 2.0 - 1.0)
+
+
 def grain_cover(m, rank, share):
     """Foam where the grain's `rank` is within `share` of the top, over an edge FOAM_EDGE *
     min(share, 1 - share) wide: its mean over the grain is the share, and nothing is drawn at
@@ -261,9 +270,10 @@ def foam_cover(m, i, active, residual, fac, lace, streak, footprint_, log_cos):
     The vertices carry the active whitecaps' share `active` (stage A) and their young residual
     foam's `residual` (stage B, residual_foam.py). The top ranks of the grain noise (Fac `fac`)
     cover the first (`grain_cover`), the lace noise's (Fac `lace`: larger patches, churning
-    slower) the second, and the streak noise's (Fac `streak`, Foam Streak times longer along the
-    wind than across) the aged foam (Aged Coverage, over the whole sea) as streaks, its top
-    ranks, a film of AGED_FILM: the residual over what the active leaves, at
+    slower) the second, and the streak noise's ridges (`ridge_rank` of Fac `streak`, Foam
+    Streak times longer along the wind than across) the aged foam (Aged Coverage, over the
+    whole sea) and over what that leaves the wind's blown streaks (Blown Coverage), a film of
+    AGED_FILM (all of them at most): the residual over what the active leaves, at
     RESIDUAL_BRIGHTNESS. Where the pixel's footprint
     along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
     foam on a grid that moves with the camera would pop), if whitecaps are called for (not
@@ -271,12 +281,14 @@ def foam_cover(m, i, active, residual, fac, lace, streak, footprint_, log_cos):
     whole = m.clamp((footprint_ - math.log(WHITECAP)) / LN2) * m.greater(i["Foam Coverage"], 0.0)
     a = m.mix(whole, active, i["Foam Coverage"])
     r = m.mix(whole, residual, i["Residual Coverage"])
-    aged = i["Aged Coverage"] / AGED_FILM
+    streaks = i["Aged Coverage"] + (1.0 - i["Aged Coverage"]) * i["Blown Coverage"]
+    aged = m.min(streaks / AGED_FILM, 1.0)
     a = m.mix(grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), footprint_, log_cos), a,
               grain_cover(m, grain_rank(m, fac), a))
     r = m.mix(grain_shown(m, FOAM_LACE, footprint_, log_cos), r,
               grain_cover(m, grain_rank(m, lace), r))
+    lines = ridge_rank(m, grain_rank(m, streak))
     r = r + (1.0 - r) * AGED_FILM * m.mix(grain_shown(m, FOAM_AGED, footprint_, log_cos),
-                                          aged, grain_cover(m, grain_rank(m, streak), aged))
+                                          aged, grain_cover(m, lines, aged))
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

@@ -15,7 +15,7 @@ import math
 
 import bpy
 
-from ..projgrid_addon.look import SUN_ELEVATION, SUN_STRENGTH
+from ..projgrid_addon.look import OVERCAST_ZENITH, SUN_ELEVATION, SUN_STRENGTH
 from .nodes import TAG, Graph, empty_tree, socket
 
 WORLD = "Projected Grid Sky"
@@ -29,7 +29,6 @@ GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun
 GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)
 GLOW_COLOUR = (0.03, 0.0276, 0.024)  # linear, times the phase function: warm, as sunlight
 OVERCAST = "Overcast"  # the Mix node from the clear sky to the overcast (its factor: how much)
-OVERCAST_ZENITH = (0.38, 0.40, 0.43)  # linear: a low storm cloud's base overhead
 # The sun lamp under a full overcast: its strength against a clear sky's, and the angle it
 # spreads over (degrees): a bright patch in the cloud, not a disc, so no glitter path.
 SUN_UNDER_CLOUD, SUN_ANGLE = 0.15, (0.5, 40.0)
@@ -121,6 +120,14 @@ def strength(world):
     node = (world.node_tree.nodes.get(BACKGROUND) if world.get(TAG) and world.node_tree
             is not None else None)
     return float(node.inputs["Strength"].default_value) if node is not None else 1.0
+
+
+def overcast(world):
+    """How far our sky world is turned to the overcast (`weather`; 0 clear, 1 full): its
+    Overcast node's factor; another world, or ours from before it had one, 0."""
+    node = (world.node_tree.nodes.get(OVERCAST) if world is not None and world.get(TAG)
+            and world.node_tree is not None else None)
+    return float(node.inputs["Factor"].default_value) if node is not None else 0.0
 
 
 def aim_glow(world, toward):

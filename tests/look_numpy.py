@@ -3,7 +3,7 @@ node's semantics, for the tests: the same formulas the water group's node tree i
 
 import numpy as np
 
-from projgrid_addon import water_model
+from projgrid_addon import look, water_model
 
 
 class NumPyMaths:
@@ -54,3 +54,12 @@ def footprint_log(f, distance, cos_view=1.0):
     """ln L_p at `distance` (m), the view at `cos_view` to the sea plane, for Filtering `f`."""
     d = np.asarray(distance, dtype=np.float64)
     return water_model.footprint(NUMPY, group_inputs(f), d, np.asarray(cos_view, float))[0]
+
+
+def grain_facs(n, seed):
+    """Fac samples of a grain noise whose CDF is the water group's (look.FOAM_RANK, spread
+    look.FOAM_GRAIN_STD): inverse transform sampling."""
+    z = np.linspace(-12.0, 12.0, 200_001)
+    cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
+    return 0.5 + look.FOAM_GRAIN_STD * np.interp(np.random.default_rng(seed).uniform(size=n),
+                                                 cdf, z)

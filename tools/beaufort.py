@@ -6,7 +6,9 @@ Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 The white share is measured on the picture: each shot is rendered three times, as drawn, with
 the foam muted and with foam everywhere; a pixel's foam cover is how far it went from the
 muted picture toward the all-foam one (in display values), and it is white where that is over
-a half (a sea without foam called for, force 2, has none to whiten). `make bench` runs it
+a half (a sea without foam called for, force 2, has none to whiten). Monahan's share counts
+whitecaps and their foam: a fourth render draws them without the wind's blown streaks
+(streaks.blown_coverage, from Beaufort 7), whose share is the rest. `make bench` runs it
 (step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
 
 import json
@@ -33,9 +35,27 @@ def render(scene, path):
     return px @ np.array([0.2126, 0.7152, 0.0722])
 
 
+def without_blown(group, scene, path):
+    """The shot rendered with the group's Blown Coverage at nought (its links from the group's
+    input cut for the render, the sockets they fed at 0)."""
+    blown = next(n for n in group.nodes if n.bl_idname == "NodeGroupInput").outputs[
+        "Blown Coverage"]
+    fed = [link.to_socket for link in blown.links]
+    for link in list(blown.links):
+        group.links.remove(link)
+    try:
+        for target in fed:
+            target.default_value = 0.0
+        return render(scene, path)
+    finally:
+        for target in fed:
+            group.links.new(blown, target)
+
+
 def white_share(group, scene, path):
-    """(white share, mean cover) of the sea's pixels in the shot, from the picture as drawn
-    (already at `path`) and two more with the Foam mix's factor at 0 and at 1."""
+    """(white share, white share of the whitecaps and their foam, mean cover) of the sea's
+    pixels in the shot, from the picture as drawn (written to `path`), two more with the Foam
+    mix's factor at 0 and at 1, and one without the blown streaks."""
     import numpy as np
 
     foam = group.nodes["Foam"].inputs[0]
@@ -49,13 +69,16 @@ def white_share(group, scene, path):
             lum[factor] = render(scene, f"{path[:-4]}_foam{int(factor)}.png")
     finally:
         group.links.new(source, foam)
+    whitecaps = without_blown(group, scene, f"{path[:-4]}_whitecaps.png")
     drawn = render(scene, path)
     gain = lum[1.0] - lum[0.0]
     sea = gain > 0.05  # where foam could show: the sea, not the sky (none: no foam drawn)
     if not sea.any():
-        return 0.0, 0.0
-    cover = np.clip((drawn - lum[0.0]) / np.where(sea, gain, 1.0), 0.0, 1.0)[sea]
-    return float((cover > WHITE).mean()), float(cover.mean())
+        return 0.0, 0.0, 0.0
+    drawn, whitecaps = (np.clip((p - lum[0.0]) / np.where(sea, gain, 1.0), 0.0, 1.0)[sea]
+                        for p in (drawn, whitecaps))
+    return (float((drawn > WHITE).mean()), float((whitecaps > WHITE).mean()),
+            float(drawn.mean()))
 
 
 def shoot(out, quick=False):
@@ -63,7 +86,7 @@ def shoot(out, quick=False):
     (force, height, white share, mean cover, Monahan's share, picture)."""
     import bpy
 
-    from projgrid_addon import effects
+    from projgrid_addon import effects, streaks
     from tools.demo import default_shot
 
     size, samples = ((240, 135), 4) if quick else ((480, 270), 16)
@@ -80,11 +103,13 @@ def shoot(out, quick=False):
             scene.frame_set(FRAME)
             group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
             name = f"beaufort_{force}_{int(height)}m.png"
-            white, cover = white_share(group, scene, os.path.join(work, name))
+            white, whitecaps, cover = white_share(group, scene, os.path.join(work, name))
             os.replace(os.path.join(work, name), os.path.join(out, name))
-            rows.append({"force": force, "height": height, "white": white, "cover": cover,
-                         "monahan": effects.whitecap_coverage(ocean.projgrid.wind_speed),
-                         "path": name})
+            u = ocean.projgrid.wind_speed
+            rows.append({"force": force, "height": height, "white": white,
+                         "whitecaps": whitecaps, "cover": cover,
+                         "monahan": effects.whitecap_coverage(u),
+                         "blown": streaks.blown_coverage(u), "path": name})
             print(json.dumps(rows[-1]), flush=True)
     return rows
 

@@ -105,10 +105,10 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
                           for c in sun.data.color)
     t = shot.scene_time(the_scene)
     size = shot.render_size(the_scene)
-    sky_strength = sky.strength(the_scene.world)
+    sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
-           facts.key())
+           sky_overcast, facts.key())
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
@@ -116,7 +116,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         settings=s, render=render, resolution=resolution, camera=(cam.view, cam.proj),
         world=world, to_local=to_local, time=t, frame=frame_now,
         per_frame=shot.seconds_per_frame(the_scene), render_width=size[0], facts=facts,
-        sun_light=sun_light, sky_strength=sky_strength,
+        sun_light=sun_light, sky_strength=sky_strength, sky_overcast=sky_overcast,
         wind_samples=wind_samples(ocean, frame_now, s),
         vertices=len(surface.data.vertices) if surface is not None else 0,
         our_material=our_material(app, surface),

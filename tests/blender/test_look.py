@@ -54,7 +54,8 @@ def test_the_look_is_written_into_our_materials_and_animates(sea, extension):
 def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     """The water body scatters the Water Colour in proportion to the light on the sea
     (optics.body_light), as the lit surface does: the same in Add Ocean's daylight, darker
-    with the sun lamp out and the sky dimmed, nothing in the dark."""
+    with the sun lamp out and the sky dimmed, greyer under the overcast (the sky's Overcast
+    factor read, as Sea State's Weather sets it), nothing in the dark."""
     scene = bpy.context.scene
     glow = sea.projgrid.water_body.data.materials[0].node_tree.nodes["Water Glow"].inputs
 
@@ -66,10 +67,15 @@ def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     sun.data.energy = 0.0
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.25
     scene.frame_set(3)
-    look = extension.projgrid_addon.look
-    want = extension.projgrid_addon.optics.body_light(0.0, 0.25, look.DAYLIGHT, look.DAYLIGHT_SUN)
+    optics = extension.projgrid_addon.optics
+    want = optics.body_light(0.0, optics.sky_irradiance(0.25, 0.0))
     assert emitted() == pytest.approx(daylight * np.array(want), rel=1e-4)
     assert max(want) < 0.25
+    scene.world.node_tree.nodes["Overcast"].inputs["Factor"].default_value = 1.0
+    scene.frame_set(5)
+    grey = optics.body_light(0.0, optics.sky_irradiance(0.25, 1.0))
+    assert emitted() == pytest.approx(daylight * np.array(grey), rel=1e-4)
+    assert grey[2] / grey[0] < 0.8 * want[2] / want[0]
     scene.world = None
     scene.frame_set(4)
     assert emitted().max() < 1e-9

@@ -140,7 +140,7 @@ def find(tree, kinds, **linked):
                 and all(n.inputs[k].is_linked == v for k, v in linked.items()))
 
 
-CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0, 4e4) for c in (0.05, 0.4, 1.0)
+CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0, 4e4, 4e5) for c in (0.05, 0.4, 1.0)
          for lod in (-6.0, -1.5, 0.7, 3.0)]
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects, foam, optics
+from projgrid_addon import HeightField, effects, foam, look, optics
 from projgrid_addon.camera import Camera, look_at, perspective
 from projgrid_addon.effects import SceneFacts, SceneObject, decide
 
@@ -257,12 +257,31 @@ def test_facts_keys_differ_exactly_when_the_facts_do():
 
 
 def test_the_body_s_light_is_the_daylight_s_share():
-    """optics.body_light: 1 in the daylight the Water Colour is given in, nought in the dark,
-    the sun's and the sky's parts apart, per channel."""
-    daylight, sun = (1.3, 1.7, 2.7), 0.6
-    assert optics.body_light(sun, 1.0, daylight, sun) == pytest.approx((1.0, 1.0, 1.0))
-    assert optics.body_light(0.0, 0.0, daylight, sun) == (0.0, 0.0, 0.0)
-    sky_only = optics.body_light(0.0, 1.0, daylight, sun)
-    assert sky_only == pytest.approx([(d - sun) / d for d in daylight])
-    assert optics.body_light((1.2, 0.6, 0.0), 0.5, daylight, sun) == pytest.approx(
-        [(e + 0.5 * (d - sun)) / d for e, d in zip((1.2, 0.6, 0.0), daylight, strict=True)])
+    """optics.body_light: 1 in the daylight the Water Colour is given in (Add Ocean's sun and
+    clear sky), nought in the dark, the sun's and the sky's parts apart, per channel."""
+    daylight, sun = np.array(look.DAYLIGHT), look.DAYLIGHT_SUN
+    clear = optics.sky_irradiance(1.0, 0.0)
+    assert clear == pytest.approx(daylight - sun)
+    assert optics.body_light(sun, clear) == pytest.approx((1.0, 1.0, 1.0))
+    assert optics.body_light(0.0, optics.sky_irradiance(0.0, 0.3)) == (0.0, 0.0, 0.0)
+    assert optics.body_light(0.0, clear) == pytest.approx((daylight - sun) / daylight)
+    assert optics.body_light((1.2, 0.6, 0.0), 0.5 * clear) == pytest.approx(
+        (np.array((1.2, 0.6, 0.0)) + 0.5 * (daylight - sun)) / daylight)
+
+
+def test_the_overcast_lights_the_sea_as_the_cie_sky():
+    """Under the overcast (Sea State's storm sky) the sky's irradiance on the sea is the CIE
+    standard overcast sky's, radiance Z (1 + 2 sin h) / 3, integrated here over the hemisphere
+    (weighed by sin h), grey as its zenith: not the clear sky's blue; between, in proportion."""
+    n = 2000
+    h = (np.arange(n) + 0.5) / n * np.pi / 2.0
+    weight = 2.0 * np.pi * np.sin(h) * np.cos(h) * (np.pi / 2.0 / n)
+    zenith = np.array(look.OVERCAST_ZENITH)
+    want = zenith * ((1.0 + 2.0 * np.sin(h)) / 3.0 * weight).sum()
+    assert optics.sky_irradiance(1.0, 1.0) == pytest.approx(want, rel=1e-5)
+    assert optics.sky_irradiance(0.5, 1.0) == pytest.approx(0.5 * want, rel=1e-5)
+    half = optics.sky_irradiance(1.0, 0.5)
+    assert half == pytest.approx(0.5 * (want + optics.sky_irradiance(1.0, 0.0)))
+    blue = optics.body_light(0.0, optics.sky_irradiance(1.0, 0.0))
+    grey = optics.body_light(0.0, optics.sky_irradiance(1.0, 1.0))
+    assert blue[2] / blue[0] > 1.2 * grey[2] / grey[0]  # the clear sky's light is bluer

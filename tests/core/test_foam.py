@@ -6,7 +6,7 @@ import types
 
 import numpy as np
 import pytest
-from look_numpy import NUMPY, footprint_log, group_inputs
+from look_numpy import NUMPY, footprint_log, grain_facs, group_inputs
 
 from projgrid_addon import (
     HeightField,
@@ -19,7 +19,7 @@ from projgrid_addon import (
     water_model,
 )
 from projgrid_addon.camera import look_at, perspective
-from projgrid_addon.look import FOAM_GRAIN, FOAM_GRAIN_STD, FOAM_LACE, FOAM_STREAK, WHITECAP
+from projgrid_addon.look import FOAM_GRAIN, FOAM_LACE, FOAM_STREAK, WHITECAP
 from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
@@ -171,14 +171,6 @@ def test_calibrations_are_kept_per_source_and_window_and_made_once():
     fresh = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
     want = foam.calibration(fresh, *keys[1])
     assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
-
-
-def grain_facs(n, seed):
-    """Fac samples of a grain noise whose CDF is the water group's (look.FOAM_RANK, spread
-    look.FOAM_GRAIN_STD): inverse transform sampling."""
-    z = np.linspace(-12.0, 12.0, 200_001)
-    cdf = water_model.grain_rank(NUMPY, 0.5 + z * FOAM_GRAIN_STD)
-    return 0.5 + FOAM_GRAIN_STD * np.interp(np.random.default_rng(seed).uniform(size=n), cdf, z)
 
 
 @pytest.mark.parametrize("share", [0.002, 0.01, 0.05, 0.3, 0.7, 0.95, 1.0])

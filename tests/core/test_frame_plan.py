@@ -31,7 +31,8 @@ def inputs(samples=None, frame=48.0, **settings):
         settings=s, render=False, resolution=(65, 129), camera=(view, proj), world=np.eye(4),
         to_local=np.eye(3), time=frame / 24.0, frame=frame, per_frame=1.0 / 24.0,
         render_width=960, facts=facts, sun_light=(1.0, 1.0, 1.0), sky_strength=1.0,
-        wind_samples=samples, vertices=0, our_material=True, volume_reach=100.0, ahead=False)
+        sky_overcast=0.0, wind_samples=samples, vertices=0, our_material=True,
+        volume_reach=100.0, ahead=False)
 
 
 def test_a_plan_is_a_pure_function_of_its_inputs():
@@ -47,7 +48,8 @@ def test_effects_off_plan_no_fields():
     for a material that is not ours)."""
     on = frame_plan.plan(inputs(foam="ON"))
     assert on.on["foam"] and on.whitecaps.max() > 0.0 and on.residual.max() > 0.0
-    active, residual, aged, _ = on.foam_look
+    active, residual, aged, _, blown = on.foam_look
+    assert blown == 0.0  # 12 m/s: below Beaufort 7, no blown streaks
     assert 0.0 < aged < active < residual
     assert active + residual + aged == pytest.approx(effects.whitecap_coverage(12.0))
     off = frame_plan.plan(inputs(**dict.fromkeys(effects.EFFECTS, "OFF")))

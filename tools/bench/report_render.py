@@ -277,17 +277,22 @@ def _pictures(report):
 
 def _beaufort(report):
     """§12: every force as the picture shows it, and its white share against Monahan's."""
-    rows = [{**r, "ratio": r["white"] / r["monahan"] if r["monahan"] > 0 else 0.0,
-             "view": f"{r['height']:.0f} m"} for r in report.results["beaufort"]]
+    rows = [{"whitecaps": r["white"], "blown": 0.0, **r, "view": f"{r['height']:.0f} m"}
+            for r in report.results["beaufort"]]
+    for r in rows:
+        r["ratio"] = r["whitecaps"] / r["monahan"] if r["monahan"] > 0 else 0.0
+        r["streaks"] = r["white"] - r["whitecaps"]
     table = _table(rows, [("force", "force", "d"), ("camera", "view", ""),
                           ("white share", "white", ".2%"), ("mean cover", "cover", ".2%"),
-                          ("Monahan", "monahan", ".2%"), ("white / Monahan", "ratio", ".2f")])
+                          ("whitecaps", "whitecaps", ".2%"), ("Monahan", "monahan", ".2%"),
+                          ("whitecaps / Monahan", "ratio", ".2f"),
+                          ("blown streaks", "streaks", ".2%"), ("their share", "blown", ".2%")])
     pictures = [f"![Beaufort {r['force']} from {r['view']}]({r['path']})" for r in rows]
     foamed = [r["ratio"] for r in rows if r["force"] >= 4]
     if foamed:
         low, high = min(foamed), max(foamed)
         report.targets.append(Target(
-            "Rendered white share 0.5-2× Monahan's, forces 4-10, from 5 m and 40 m",
+            "Rendered whitecaps' white share 0.5-2× Monahan's, forces 4-10, from 5 m and 40 m",
             f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
             "**White share.** One frame of a view holds few breakers, and the foam is placed "
             "on the breaking crests: a shot with a cluster of them in the glitter runs over, "
@@ -298,8 +303,11 @@ def _beaufort(report):
         "the view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
         "goes from the picture with the foam muted toward the one with foam everywhere "
         "(display values); white where over a half. Monahan and O'Muircheartaigh's whitecap "
-        "share is 1.59e-5 U^2.55; one frame of one view, so a few breakers more or less move "
-        "it.", "", table, "", *pictures, ""]
+        "share is 1.59e-5 U^2.55, of the whitecaps and their foam: *whitecaps* is the white "
+        "share of a render without the wind's blown streaks (from Beaufort 7: none up to 13.9 "
+        "m/s, the sea white at 40 m/s; their share of the sea, `streaks.blown_coverage`, "
+        "beside the white they add). One frame of one view, so a few breakers more or less "
+        "move it.", "", table, "", *pictures, ""]
 
 
 def _memory(report):

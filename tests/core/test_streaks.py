@@ -1,0 +1,77 @@
+"""The foam the wind blows into streaks against the WMO's Beaufort descriptions and Holthuijsen,
+Powell and Pietrzak (2012), and as the water group's formula draws it."""
+
+import numpy as np
+import pytest
+from look_numpy import NUMPY, grain_facs, group_inputs
+
+from projgrid_addon import foam, look, sea_states, shading, streaks, water_model
+from projgrid_addon.camera import perspective
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
+
+
+def test_blown_streaks_from_beaufort_7_to_the_white_out():
+    """None up to Beaufort 6; from Beaufort 7's lower wind (13.9 m/s, "begins to be blown in
+    streaks") growing with the wind; at 40 m/s the sea white (Holthuijsen et al.'s white-out);
+    at 19-23 m/s (Beaufort 8-9) about the whitecaps' share to 2.5 times it (Ross and Cardone's
+    thin streaks), at Beaufort 10 a quarter of the sea ("a white appearance")."""
+    winds = [sea_states.sea_state(f).wind_speed for f in range(11)]
+    blown = [streaks.blown_coverage(u) for u in winds]
+    assert blown[:7] == [0.0] * 7
+    assert 0.0 < blown[7] < blown[8] < blown[9] < blown[10]
+    assert streaks.blown_coverage(13.9) == 0.0 and streaks.blown_coverage(40.0) == 1.0
+    assert streaks.blown_coverage(60.0) == 1.0
+    assert 0.2 <= blown[10] <= 0.3
+    for force in (8, 9):
+        assert 1.0 <= blown[force] / foam.foam_coverage(winds[force]) <= 2.5
+
+
+def test_the_streaks_draw_out_along_the_wind():
+    """Round patches up to Beaufort 6 (12 m/s); from Beaufort 8 (17.2 m/s, "well-marked
+    streaks") at least 2.5 times longer along the wind than across (the issue's measure), and
+    most of the residual foam gathered into them."""
+    assert streaks.foam_streak(12.0) == 1.0
+    assert streaks.foam_streak(17.2) >= 2.5
+    assert streaks.streak_share(8.0) < streaks.streak_share(17.5) < 1.0
+
+
+@pytest.mark.parametrize("force", [8, 10])
+def test_the_group_draws_the_blown_streaks_over_the_aged_foam(force):
+    """The water group's formula (water_model.foam_cover, what the node tree is built from)
+    draws the aged foam and the blown streaks as the top ranks of one streak noise, a film of
+    AGED_FILM: over the noise's ranks their mean is the aged share plus the blown share of what
+    it leaves, the foam's look (foam.foam_look) carrying both; the rest bare water."""
+    u = sea_states.sea_state(force).wind_speed
+    source = SpectralField(SeaState(wind_speed=u))
+    _, _, aged, stretch, blown = foam.foam_look(source, u)
+    assert blown == streaks.blown_coverage(u) and stretch == streaks.foam_streak(u)
+    f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960, source.slopes, u)
+    i = group_inputs(f, **{"Aged Coverage": aged, "Blown Coverage": blown})
+    fac = grain_facs(200_000, force)
+    zero = np.zeros_like(fac)
+    lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
+    drawn, brightness = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, lp,
+                                               log_cos)
+    want = aged + (1.0 - aged) * blown
+    assert drawn.mean() == pytest.approx(want, rel=0.03)
+    assert drawn.max() == pytest.approx(look.AGED_FILM) and drawn.min() == 0.0
+    assert np.all(brightness == look.RESIDUAL_BRIGHTNESS)
+    # far off, where a pixel holds many streaks, their mean
+    lp, log_cos = water_model.footprint(NUMPY, i, 5e4, 1e-4)
+    far, _ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, lp, log_cos)
+    assert far == pytest.approx(want, rel=1e-6)
+
+
+def test_streaks_over_the_whole_sea_stay_a_film():
+    """The streaks' ranks never cover more than all of the sea: a white-out draws the film
+    everywhere, no more."""
+    i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
+                                       SpectralField(SeaState(wind_speed=40.0)).slopes, 40.0),
+                     **{"Aged Coverage": 0.05, "Blown Coverage": 1.0})
+    fac = grain_facs(10_000, 0)
+    lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
+    zero = np.zeros_like(fac)
+    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, lp, log_cos)
+    assert drawn.mean() == pytest.approx(look.AGED_FILM, rel=1e-3)
+    assert drawn.max() == pytest.approx(look.AGED_FILM)
