@@ -63,6 +63,26 @@ def test_the_group_draws_the_blown_streaks_over_the_aged_foam(force):
     assert far == pytest.approx(want, rel=1e-6)
 
 
+def test_aged_foam_lies_in_patches_and_blown_streaks_in_lines():
+    """The aged foam, part of the whitecaps' share (which photographs count), takes the streak
+    noise's top ranks: patches; the blown streaks its middle ranks (its ridges): lines along
+    its middle contour. Apart, and each covering its own share."""
+    rank = np.linspace(0.0, 1.0, 20001)[1:-1]
+    z = np.linspace(-12.0, 12.0, 200_001)
+    cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
+    fac = 0.5 + look.FOAM_GRAIN_STD * np.interp(rank, cdf, z)  # the noise at these ranks
+    a = 0.02 * look.AGED_FILM
+    for aged, blown in ((a, 0.0), (0.0, 0.1)):
+        cover = water_model.streak_cover(
+            NUMPY, fac, aged / look.AGED_FILM, (aged + (1.0 - aged) * blown) / look.AGED_FILM)
+        drawn = rank[cover > 0.5]
+        if blown == 0.0:
+            assert drawn.min() > 0.97 and cover.mean() == pytest.approx(0.02, rel=0.02)
+        else:
+            assert np.abs(drawn - 0.5).max() < 0.08
+            assert cover.mean() == pytest.approx(0.1 / look.AGED_FILM, rel=0.02)
+
+
 def test_streaks_over_the_whole_sea_stay_a_film():
     """The streaks' ranks never cover more than all of the sea: a white-out draws the film
     everywhere, no more."""
