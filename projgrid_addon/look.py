@@ -24,12 +24,12 @@ FOAM_RANK = (1.522, 0.0963)
 # nought, everything at one, and the mean is the share (water_model.grain_cover).
 FOAM_EDGE = 0.5
 FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a little drawn out
-# The young residual foam's noise, features per metre (round rafts of foam, shrinking), and
-# the streak noise of the aged and the blown foam (the geometric mean of along and across the
-# wind: Foam Streak times longer along than across), whose ridges they cover: at a gale's
-# stretch (10) its lines lie some 10 m apart across the wind, about a metre wide at a gale's
-# share, wider as it grows (pixels: tests/blender/test_shots.py); both the grain's fractal.
-FOAM_LACE, FOAM_AGED = 0.25, 0.03
+# The young residual foam's noise, features per metre (round rafts of foam, shrinking), the
+# aged foam's streak noise and the blown streaks' (each the geometric mean of along and across
+# the wind: Foam Streak times longer along than across), all the grain's fractal. The blown
+# streaks are the ridges of theirs: at a gale's stretch (10) lines some 10 m apart across the
+# wind, about a metre wide at a gale's share, wider as it grows (test_shots.py measures them).
+FOAM_LACE, FOAM_AGED, FOAM_BLOWN = 0.25, 0.1, 0.03
 FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 # Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and

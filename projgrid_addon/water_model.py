@@ -14,6 +14,7 @@ import math
 from .look import (
     AGED_FILM,
     FOAM_AGED,
+    FOAM_BLOWN,
     FOAM_COLOUR,
     FOAM_EDGE,
     FOAM_GRAIN,
@@ -249,20 +250,6 @@ def ridge_rank(m, rank):
     return 1.0 - m.abs(rank * 2.0 - 1.0)
 
 
-def streak_cover(m, fac, aged, streaks):
-    """The streak noise's cover (Fac `fac`) of the aged foam's ranks `aged` and the blown
-    streaks' besides (`streaks` of them in all, at most 1): the aged foam, part of the
-    whitecaps' share, its top ranks (patches drawn out along the wind, which photographs count
-    as whitecaps); the blown streaks the ridges (`ridge_rank`) of the ranks below those, thin
-    lines. The two are apart (their soft edges meet at one rank, where they add up), so their
-    mean is `streaks`."""
-    rank = grain_rank(m, fac)
-    rest = m.max(1.0 - aged, 1e-6)
-    lines = grain_cover(m, ridge_rank(m, m.min(rank / rest, 1.0)),
-                        m.min((streaks - aged) / rest, 1.0))
-    return m.min(grain_cover(m, rank, aged) + lines, 1.0)
-
-
 def grain_cover(m, rank, share):
     """Foam where the grain's `rank` is within `share` of the top, over an edge FOAM_EDGE *
     min(share, 1 - share) wide: its mean over the grain is the share, and nothing is drawn at
@@ -279,15 +266,17 @@ def grain_shown(m, scale, footprint_, log_cos):
     return m.clamp((-math.log(scale) - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
 
 
-def foam_cover(m, i, active, residual, fac, lace, streak, footprint_, log_cos):
+def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log_cos):
     """The foam drawn at a point: (the Foam mix's factor, its brightness against fresh foam).
     The vertices carry the active whitecaps' share `active` (stage A) and their young residual
     foam's `residual` (stage B, residual_foam.py). The top ranks of the grain noise (Fac `fac`)
     cover the first (`grain_cover`), the lace noise's (Fac `lace`: larger patches, churning
-    slower) the second, and the streak noise's (Fac `streak`, Foam Streak times longer along
-    the wind than across) the aged foam (Aged Coverage, over the whole sea) and over what that
-    leaves the wind's blown streaks (Blown Coverage; `streak_cover`), a film of AGED_FILM (all
-    of them at most): the residual over what the active leaves, at
+    slower) the second, the streak noise's (Fac `streak`, Foam Streak times longer along the
+    wind than across) the aged foam (Aged Coverage, over the whole sea: patches drawn out along
+    the wind, which photographs count as whitecaps), and over what that leaves the ridges
+    (`ridge_rank`) of the blown streaks' noise (Fac `blown`, as drawn out) the wind's blown
+    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM (all of it at most): the
+    residual over what the active leaves, at
     RESIDUAL_BRIGHTNESS. Where the pixel's footprint
     along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
     foam on a grid that moves with the camera would pop), if whitecaps are called for (not
@@ -296,13 +285,18 @@ def foam_cover(m, i, active, residual, fac, lace, streak, footprint_, log_cos):
     a = m.mix(whole, active, i["Foam Coverage"])
     r = m.mix(whole, residual, i["Residual Coverage"])
     aged = m.min(i["Aged Coverage"] / AGED_FILM, 1.0)
-    streaks = m.min((i["Aged Coverage"] + (1.0 - i["Aged Coverage"]) * i["Blown Coverage"])
-                    / AGED_FILM, 1.0)
+    # of the ranks the aged foam leaves, the share that makes the film's mean aged + (1 - aged)
+    # blown
+    lines = m.min((1.0 - i["Aged Coverage"]) * i["Blown Coverage"]
+                  / m.max(AGED_FILM - i["Aged Coverage"], 1e-6), 1.0)
     a = m.mix(grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), footprint_, log_cos), a,
               grain_cover(m, grain_rank(m, fac), a))
     r = m.mix(grain_shown(m, FOAM_LACE, footprint_, log_cos), r,
               grain_cover(m, grain_rank(m, lace), r))
-    r = r + (1.0 - r) * AGED_FILM * m.mix(grain_shown(m, FOAM_AGED, footprint_, log_cos),
-                                          streaks, streak_cover(m, streak, aged, streaks))
+    aged = m.mix(grain_shown(m, FOAM_AGED, footprint_, log_cos), aged,
+                 grain_cover(m, grain_rank(m, streak), aged))
+    lines = m.mix(grain_shown(m, FOAM_BLOWN, footprint_, log_cos), lines,
+                  grain_cover(m, ridge_rank(m, grain_rank(m, blown)), lines))
+    r = r + (1.0 - r) * AGED_FILM * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

@@ -42,6 +42,7 @@ from ..projgrid_addon import water_model as model
 from ..projgrid_addon.look import (
     DAYLIGHT,
     FOAM_AGED,
+    FOAM_BLOWN,
     FOAM_CHURN,
     FOAM_DETAIL,
     FOAM_GRAIN,
@@ -62,7 +63,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 29  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 30  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -201,7 +202,7 @@ def _build(group):
     # Foam (Jensen and Golias; Monahan and Lu's stages; model.foam_cover): a rough white
     # cover where the crests carry it, the active whitecaps drawn by the top ranks of a grain
     # noise, their young residual foam as the lace of a noise the wind draws out, the aged
-    # foam as streaks of its top ranks.
+    # foam as streaks of its top ranks, the wind's blown streaks as a fourth's ridges.
     cos_w, sin_w = g.cos(i["Wind Direction"]), g.sin(i["Wind Direction"])
     stretch = g.sqrt(i["Foam Streak"])
     water = g.vector("SUBTRACT", geo["Position"], g.node(
@@ -222,7 +223,8 @@ def _build(group):
     foam, brightness = model.foam_cover(
         g, i, active, residual, noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN),
         noise(FOAM_LACE, 1.0, 1.0, FOAM_LACE_CHURN),
-        noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN), footprint, log_cos)
+        noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN),
+        noise(FOAM_BLOWN, 1.0 / stretch, stretch, FOAM_LACE_CHURN), footprint, log_cos)
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {

@@ -208,7 +208,7 @@ def test_the_tree_computes_the_model(water):
         gain = model.layer_gain(NUMPY, lod, one[f"Layer Level {band}"],
                                 one[f"Layer Top Log {band}"], one[f"Layer Bottom Log {band}"], lp)
         assert -tilted.output(tilt.outputs[0])[0] == pytest.approx(gain, rel=1e-5, abs=1e-7)
-        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, fac, fac, fac, lp,
+        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, fac, fac, fac, fac, lp,
                                              log_cos)
         assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
         assert ev.input(foam_colour) == pytest.approx(values["Foam Colour"] * brightness,

@@ -198,7 +198,7 @@ def test_far_whitecaps_stay_specks():
 
     def drawn(d, active, residual):
         lp, log_cos = water_model.footprint(NUMPY, i, d, 4.0 / d)
-        return water_model.foam_cover(NUMPY, i, active, residual, fac, fac[::-1], fac, lp,
+        return water_model.foam_cover(NUMPY, i, active, residual, fac, fac[::-1], fac, fac, lp,
                                       log_cos)[0]
     assert np.exp(footprint_log(f, 400.0, 4.0 / 400.0)) > max(patches)
     for active, residual in ((0.05, 0.0), (0.0, 0.05)):

@@ -39,48 +39,55 @@ def test_the_streaks_draw_out_along_the_wind():
 @pytest.mark.parametrize("force", [8, 10])
 def test_the_group_draws_the_blown_streaks_over_the_aged_foam(force):
     """The water group's formula (water_model.foam_cover, what the node tree is built from)
-    draws the aged foam and the blown streaks as the top ranks of one streak noise, a film of
-    AGED_FILM: over the noise's ranks their mean is the aged share plus the blown share of what
-    it leaves, the foam's look (foam.foam_look) carrying both; the rest bare water."""
+    draws the aged foam as the top ranks of the streak noise (patches drawn out along the
+    wind, which photographs count as whitecaps) and the blown streaks as the ridges of a noise
+    of their own (thin lines), both a film of AGED_FILM: over the noises' ranks their mean is
+    the aged share plus the blown share of what it leaves, the foam's look (foam.foam_look)
+    carrying both; the rest bare water. Far off, where a pixel holds many, their mean."""
     u = sea_states.sea_state(force).wind_speed
     source = SpectralField(SeaState(wind_speed=u))
     _, _, aged, stretch, blown = foam.foam_look(source, u)
     assert blown == streaks.blown_coverage(u) and stretch == streaks.foam_streak(u)
     f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960, source.slopes, u)
     i = group_inputs(f, **{"Aged Coverage": aged, "Blown Coverage": blown})
-    fac = grain_facs(200_000, force)
+    fac, other = grain_facs(200_000, force), grain_facs(200_000, force + 100)
     zero = np.zeros_like(fac)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
-    drawn, brightness = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, lp,
-                                               log_cos)
+
+    def drawn(streak, lines):
+        return water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, streak, lines, lp,
+                                      log_cos)
+    cover, brightness = drawn(fac, other)
     want = aged + (1.0 - aged) * blown
-    assert drawn.mean() == pytest.approx(want, rel=0.03)
-    assert drawn.max() == pytest.approx(look.AGED_FILM) and drawn.min() == 0.0
+    assert cover.mean() == pytest.approx(want, rel=0.03)
+    assert cover.max() == pytest.approx(look.AGED_FILM) and cover.min() == 0.0
     assert np.all(brightness == look.RESIDUAL_BRIGHTNESS)
-    # far off, where a pixel holds many streaks, their mean
     lp, log_cos = water_model.footprint(NUMPY, i, 5e4, 1e-4)
-    far, _ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, lp, log_cos)
+    far, _ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, lp, log_cos)
     assert far == pytest.approx(want, rel=1e-6)
 
 
 def test_aged_foam_lies_in_patches_and_blown_streaks_in_lines():
-    """The aged foam, part of the whitecaps' share (which photographs count), takes the streak
-    noise's top ranks: patches; the blown streaks its middle ranks (its ridges): lines along
-    its middle contour. Apart, and each covering its own share."""
+    """The aged foam covers the streak noise's top ranks (patches), the blown streaks the
+    middle ranks of theirs (its ridges: lines along its middle contour), each its share."""
     rank = np.linspace(0.0, 1.0, 20001)[1:-1]
     z = np.linspace(-12.0, 12.0, 200_001)
     cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
     fac = 0.5 + look.FOAM_GRAIN_STD * np.interp(rank, cdf, z)  # the noise at these ranks
-    a = 0.02 * look.AGED_FILM
-    for aged, blown in ((a, 0.0), (0.0, 0.1)):
-        cover = water_model.streak_cover(
-            NUMPY, fac, aged / look.AGED_FILM, (aged + (1.0 - aged) * blown) / look.AGED_FILM)
-        drawn = rank[cover > 0.5]
+    i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
+                                       SpectralField(SeaState(wind_speed=22.6)).slopes, 22.6))
+    lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
+    zero = np.zeros_like(fac)
+    for aged, blown in ((0.02, 0.0), (0.0, 0.1)):
+        j = {**i, "Aged Coverage": aged, "Blown Coverage": blown}
+        cover, _ = water_model.foam_cover(NUMPY, j, zero, zero, zero, zero, fac, fac, lp,
+                                          log_cos)
+        on = rank[cover > 0.5 * look.AGED_FILM]
         if blown == 0.0:
-            assert drawn.min() > 0.97 and cover.mean() == pytest.approx(0.02, rel=0.02)
+            assert on.min() > 0.95 and cover.mean() == pytest.approx(aged, rel=0.02)
         else:
-            assert np.abs(drawn - 0.5).max() < 0.08
-            assert cover.mean() == pytest.approx(0.1 / look.AGED_FILM, rel=0.02)
+            assert np.abs(on - 0.5).max() < 0.1
+            assert cover.mean() == pytest.approx(blown, rel=0.02)
 
 
 def test_streaks_over_the_whole_sea_stay_a_film():
@@ -92,6 +99,7 @@ def test_streaks_over_the_whole_sea_stay_a_film():
     fac = grain_facs(10_000, 0)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
     zero = np.zeros_like(fac)
-    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, lp, log_cos)
+    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, fac[::-1], lp,
+                                      log_cos)
     assert drawn.mean() == pytest.approx(look.AGED_FILM, rel=1e-3)
     assert drawn.max() == pytest.approx(look.AGED_FILM)
