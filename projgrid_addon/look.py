@@ -28,7 +28,8 @@ FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a 
 # aged foam's streak noise and the blown streaks' (each the geometric mean of along and across
 # the wind: Foam Streak times longer along than across), all the grain's fractal. The blown
 # streaks are the ridges of theirs: at a gale's stretch (10) lines some 10 m apart across the
-# wind, about a metre wide at a gale's share, wider as it grows (test_shots.py measures them).
+# wind, about a metre wide at a gale's share, wider as it grows (test_shots.py measures their
+# stretch along the wind).
 FOAM_LACE, FOAM_AGED, FOAM_BLOWN = 0.25, 0.1, 0.03
 FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share

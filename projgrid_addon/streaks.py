@@ -42,8 +42,10 @@ def blown_coverage(wind_speed):
     whitecaps and their foam (Monahan's share): Holthuijsen et al. found the whitecaps' share
     level off at high winds and the streaks join them, increasingly dominating. Over
     BLOWN_WINDS, as the square of the way: at 19-23 m/s (Beaufort 8-9, "well-marked" to "dense
-    streaks") as much as the whitecaps' share to twice it, as Ross and Cardone (1974) found
+    streaks") as much as the whitecaps' share to 2.5 times it, as Ross and Cardone (1974) found
     the thin streaks add at 10-25 m/s (whitecap photographs agree with Monahan-like shares
     only with the streaks left out); Beaufort 10 (26.5 m/s) a quarter of the sea ("a white
-    appearance"), 11 (30.5 m/s) two fifths ("completely covered with long white patches")."""
+    appearance"), 11 (30.5 m/s) two fifths ("completely covered with long white patches").
+    The share is the mean cover: drawn as a film of look.AGED_FILM, over a third more of the
+    sea."""
     return _ramp(wind_speed, BLOWN_WINDS) ** 2

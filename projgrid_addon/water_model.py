@@ -275,9 +275,9 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     wind than across) the aged foam (Aged Coverage, over the whole sea: patches drawn out along
     the wind, which photographs count as whitecaps), and over what that leaves the ridges
     (`ridge_rank`) of the blown streaks' noise (Fac `blown`, as drawn out) the wind's blown
-    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM (all of it at most): the
-    residual over what the active leaves, at
-    RESIDUAL_BRIGHTNESS. Where the pixel's footprint
+    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM over as much more of the
+    sea as makes their mean cover the shares (all of it at most): the residual over what the
+    active leaves, at RESIDUAL_BRIGHTNESS. Where the pixel's footprint
     along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
     foam on a grid that moves with the camera would pop), if whitecaps are called for (not
     contact foam alone); each noise is drawn while `grain_shown`, past that its share."""

@@ -156,7 +156,7 @@ def test_the_tree_computes_the_model(water):
     assert values["Layer Density"] > 0.0 and values["Slope Density"] > 0.0  # not trivial
     assert values["Gust Amplitude"] > 0.1
     values.update({"Foam Coverage": 0.03, "Residual Coverage": 0.05, "Aged Coverage": 0.01,
-                   "Foam Streak": 3.0})
+                   "Foam Streak": 3.0, "Blown Coverage": 0.1})
     glossy = find(tree, GLOSSY, Roughness=True)
     ripples_bump = find(tree, ("ShaderNodeBump",), Normal=True)
     tilt = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeVectorMath"
@@ -225,7 +225,7 @@ def test_the_tree_computes_the_model(water):
     assert min(seen["gust"]) < 1.0 - values["Gust Amplitude"] < 1.0 + values["Gust Amplitude"] \
         < max(seen["gust"])
     assert {0.0} < seen["gain"] and max(seen["gain"]) > 0.5
-    far = 0.03 + 0.97 * (0.05 + 0.95 * 0.01)
+    far = 0.03 + 0.97 * (0.05 + 0.95 * (0.01 + 0.99 * 0.1))
     assert {0.0, 1.0, round(far, 4)} <= seen["foam"], sorted(seen["foam"])
 
 
