@@ -266,6 +266,13 @@ def grain_shown(m, scale, footprint_, log_cos):
     return m.clamp((-math.log(scale) - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
 
 
+def grain_drawn(m, scale, rank, share, footprint_, log_cos):
+    """A noise of `scale` features per metre covering `share` by its `rank` (`grain_cover`)
+    while it is shown (`grain_shown`), past that its mean, the share."""
+    return m.mix(grain_shown(m, scale, footprint_, log_cos), share,
+                 grain_cover(m, rank, share))
+
+
 def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log_cos):
     """The foam drawn at a point: (the Foam mix's factor, its brightness against fresh foam).
     The vertices carry the active whitecaps' share `active` (stage A) and their young residual
@@ -289,14 +296,11 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     # blown
     lines = m.min((1.0 - i["Aged Coverage"]) * i["Blown Coverage"]
                   / m.max(AGED_FILM - i["Aged Coverage"], 1e-6), 1.0)
-    a = m.mix(grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), footprint_, log_cos), a,
-              grain_cover(m, grain_rank(m, fac), a))
-    r = m.mix(grain_shown(m, FOAM_LACE, footprint_, log_cos), r,
-              grain_cover(m, grain_rank(m, lace), r))
-    aged = m.mix(grain_shown(m, FOAM_AGED, footprint_, log_cos), aged,
-                 grain_cover(m, grain_rank(m, streak), aged))
-    lines = m.mix(grain_shown(m, FOAM_BLOWN, footprint_, log_cos), lines,
-                  grain_cover(m, ridge_rank(m, grain_rank(m, blown)), lines))
+    shown = (footprint_, log_cos)
+    a = grain_drawn(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), grain_rank(m, fac), a, *shown)
+    r = grain_drawn(m, FOAM_LACE, grain_rank(m, lace), r, *shown)
+    aged = grain_drawn(m, FOAM_AGED, grain_rank(m, streak), aged, *shown)
+    lines = grain_drawn(m, FOAM_BLOWN, ridge_rank(m, grain_rank(m, blown)), lines, *shown)
     r = r + (1.0 - r) * AGED_FILM * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)
