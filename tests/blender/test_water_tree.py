@@ -16,25 +16,30 @@ from .helpers import spectral_sea
 
 
 def _safe_log(a, b):
-    return math.log(a) / math.log(b) if a > 0.0 and b > 0.0 and b != 1.0 else 0.0
+    ok = (a > 0.0) & (b > 0.0) & (b != 1.0)
+    return np.where(ok, np.log(np.where(ok, a, 2.0)) / np.log(np.where(ok, b, 2.0)), 0.0)
 
 
 def _safe_pow(a, b):
-    if a < 0.0 and b != int(b):
-        return 0.0
-    return a**b if a != 0.0 or b > 0.0 else 0.0
+    ok = ~((a < 0.0) & (b != np.floor(b))) & ((a != 0.0) | (b > 0.0))
+    return np.where(ok, np.power(np.where(ok, a, 1.0), b), 0.0)
 
 
+def _safe_div(a, b):
+    return np.where(b != 0.0, a / np.where(b != 0.0, b, 1.0), 0.0)
+
+
+# Blender's Math node on floats or NumPy arrays (a node's values for many stubbed noise values)
 MATH = {
     "ADD": lambda a, b, c: a + b, "SUBTRACT": lambda a, b, c: a - b,
-    "MULTIPLY": lambda a, b, c: a * b, "DIVIDE": lambda a, b, c: a / b if b != 0.0 else 0.0,
-    "MULTIPLY_ADD": lambda a, b, c: a * b + c, "MAXIMUM": lambda a, b, c: max(a, b),
-    "MINIMUM": lambda a, b, c: min(a, b), "ABSOLUTE": lambda a, b, c: abs(a),
-    "SQRT": lambda a, b, c: math.sqrt(a) if a > 0.0 else 0.0,
+    "MULTIPLY": lambda a, b, c: a * b, "DIVIDE": lambda a, b, c: _safe_div(a, b),
+    "MULTIPLY_ADD": lambda a, b, c: a * b + c, "MAXIMUM": lambda a, b, c: np.maximum(a, b),
+    "MINIMUM": lambda a, b, c: np.minimum(a, b), "ABSOLUTE": lambda a, b, c: np.abs(a),
+    "SQRT": lambda a, b, c: np.sqrt(np.maximum(a, 0.0)),
     "LOGARITHM": lambda a, b, c: _safe_log(a, b), "POWER": lambda a, b, c: _safe_pow(a, b),
-    "EXPONENT": lambda a, b, c: math.exp(a), "LESS_THAN": lambda a, b, c: float(a < b),
-    "COSINE": lambda a, b, c: math.cos(a), "SINE": lambda a, b, c: math.sin(a),
-    "GREATER_THAN": lambda a, b, c: float(a > b),
+    "EXPONENT": lambda a, b, c: np.exp(a), "LESS_THAN": lambda a, b, c: (a < b) * 1.0,
+    "COSINE": lambda a, b, c: np.cos(a), "SINE": lambda a, b, c: np.sin(a),
+    "GREATER_THAN": lambda a, b, c: (a > b) * 1.0,
 }
 VECTOR = {
     "ADD": lambda a, b, s: a + b, "SUBTRACT": lambda a, b, s: a - b,
@@ -49,7 +54,9 @@ FACET_RANDOM = (0.3, 0.2)
 
 class Evaluator:
     """Values of a shader node tree's sockets for given group inputs and stubbed scene inputs
-    (the nodes a render would feed: attribute, camera data, geometry)."""
+    (the nodes a render would feed: attribute, camera data, geometry). `fac`: every noise's
+    Fac (a float, or an array: the tree's values for each), or a dict of them by the noise's
+    Scale (an unlinked socket's value, rounded to 6 places; None for the rest)."""
 
     def __init__(self, group_inputs, lod, distance, incoming, attributes=None, fac=0.5,
                  backfacing=0.0):
@@ -64,6 +71,7 @@ class Evaluator:
                       # the glint facet's cell: its two random values
                       "ShaderNodeTexVoronoi": {"Color": np.array([*FACET_RANDOM, 0.5])},
                       "ShaderNodeTexNoise": {"Fac": fac}}
+        self.fac = fac
 
     def input(self, socket):
         if socket.is_linked:
@@ -87,13 +95,18 @@ class Evaluator:
             t, a, b = (self.input(next(s for s in node.inputs if s.identifier == k))
                        for k in ("Factor_Float", "A_Float", "B_Float"))
             return a + t * (b - a)
+        if kind == "ShaderNodeTexNoise" and isinstance(self.fac, dict):
+            scale = node.inputs["Scale"]
+            return self.fac.get(None if scale.is_linked else round(scale.default_value, 6),
+                                self.fac[None])
         if kind in self.stubs:
             stub = self.stubs[kind]
             return stub[socket.identifier] if socket.identifier in stub else stub[socket.name]
         if kind == "ShaderNodeMath":
             a, b, c = (self.input(s) for s in node.inputs[:3])
             v = MATH[node.operation](a, b, c)
-            return min(max(v, 0.0), 1.0) if node.use_clamp else v
+            v = np.clip(v, 0.0, 1.0) if node.use_clamp else v
+            return float(v) if np.ndim(v) == 0 else v
         if kind == "ShaderNodeVectorMath":
             a, b = self.input(node.inputs[0]), self.input(node.inputs[1])
             s = self.input(node.inputs["Scale"]) if node.operation == "SCALE" else None
@@ -151,7 +164,7 @@ def test_the_tree_computes_the_model(water):
     Fresnel output are the model's formulas evaluated in NumPy (the tree is built from them: a
     wrong link or operator in the build shows here)."""
     node, core = water
-    model, tree = core.water_model, node.node_tree
+    model, tree, look = core.water_model, node.node_tree, core.look
     values = group_values(node)
     assert values["Layer Density"] > 0.0 and values["Slope Density"] > 0.0  # not trivial
     assert values["Gust Amplitude"] > 0.1
@@ -182,8 +195,13 @@ def test_the_tree_computes_the_model(water):
                **{f"Layer Slopes {k}": np.array([float(k == band), 0.0, 0.0]) for k in (1, 2, 3)}}
         flat = {**one, **{f"Layer Slopes {k}": np.zeros(3) for k in (1, 2, 3)}}
         attributes = {"projgrid_foam": share, "projgrid_foam_residual": left}
-        ev = Evaluator(flat, lod, d, incoming(c), attributes=attributes, fac=fac)
-        tilted = Evaluator(one, lod, d, incoming(c), attributes=attributes, fac=fac)
+        # each foam noise its own value: a noise swapped for another in the build shows
+        foams = [fac, *(0.5 + (fac - 0.5) * k + 0.05 * k for k in (-1.0, 0.6, 1.5))]
+        facs = {None: fac, **{round(scale, 6): f for scale, f in zip(
+            (look.FOAM_GRAIN, look.FOAM_LACE, look.FOAM_AGED, look.FOAM_BLOWN), foams,
+            strict=True)}}
+        ev = Evaluator(flat, lod, d, incoming(c), attributes=attributes, fac=facs)
+        tilted = Evaluator(one, lod, d, incoming(c), attributes=attributes, fac=facs)
 
         lp, log_cos = model.footprint(NUMPY, flat, d, c)
         gust = model.gust(NUMPY, flat, fac, lp)
@@ -208,8 +226,7 @@ def test_the_tree_computes_the_model(water):
         gain = model.layer_gain(NUMPY, lod, one[f"Layer Level {band}"],
                                 one[f"Layer Top Log {band}"], one[f"Layer Bottom Log {band}"], lp)
         assert -tilted.output(tilt.outputs[0])[0] == pytest.approx(gain, rel=1e-5, abs=1e-7)
-        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, fac, fac, fac, fac, lp,
-                                             log_cos)
+        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, *foams, lp, log_cos)
         assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
         assert ev.input(foam_colour) == pytest.approx(values["Foam Colour"] * brightness,
                                                       rel=1e-5)
@@ -311,20 +328,19 @@ def test_the_foam_drawn_is_monahan_s_share(water, extension):
     facs = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(400) + 0.5) / 400, cdf, z)
     young = {**values, "Aged Coverage": 0.0}
     for share, stage in itertools.product((0.02, 0.3), ("projgrid_foam", "projgrid_foam_residual")):
-        drawn = [Evaluator(young, 0.0, 3.0, incoming(1.0),
-                           attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0,
-                                       stage: share},
-                           fac=float(fac)).input(mix) for fac in facs]
+        drawn = Evaluator(young, 0.0, 3.0, incoming(1.0),
+                          attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0,
+                                      stage: share}, fac=facs).input(mix)
         assert np.mean(drawn) == pytest.approx(share, rel=0.02), (share, stage)
-        assert max(drawn) == 1.0 and min(drawn) == 0.0  # a solid core, bare water around
+        assert drawn.max() == 1.0 and drawn.min() == 0.0  # a solid core, bare water around
     # the aged foam, over the whole sea: a film of AGED_FILM over its share / AGED_FILM (a gale's
     # share: the frame's is too small for the ranks sampled here)
     aged = 0.02
-    streaks = [Evaluator({**values, "Aged Coverage": aged}, 0.0, 3.0, incoming(1.0),
-                         attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0},
-                         fac=float(fac)).input(mix) for fac in facs]
+    streaks = Evaluator({**values, "Aged Coverage": aged}, 0.0, 3.0, incoming(1.0),
+                        attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0},
+                        fac=facs).input(mix)
     assert np.mean(streaks) == pytest.approx(aged, rel=0.02)
-    assert max(streaks) == pytest.approx(look.AGED_FILM) and min(streaks) == 0.0
+    assert streaks.max() == pytest.approx(look.AGED_FILM) and streaks.min() == 0.0
 
 
 def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
