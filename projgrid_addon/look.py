@@ -32,6 +32,9 @@ FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a 
 # stretch along the wind).
 FOAM_LACE, FOAM_AGED, FOAM_BLOWN = 0.25, 0.1, 0.03
 FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
+# m across the wind the streak noises are pushed by the grain noise's departure (in its
+# standard deviations): ragged edges a few metres long, fibres rather than brush strokes.
+FOAM_WARP = 0.3
 WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whitecap share
 # Gusts (cat's paws): the wind's speed varies over the sea in patches that drift with it, and
 # the ripples answer it within seconds. Their slope variance is scaled by max(1 + Gust
@@ -50,9 +53,11 @@ WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in 
 DAYLIGHT = (1.2865, 1.7202, 2.7205)
 # Of it, the sun lamp's (white).
 DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
-# Linear radiance of the overcast overhead (Sea State's storm sky, shaders/sky.py): a low storm
-# cloud's base; toward the horizon a third of it (the CIE standard overcast sky).
-OVERCAST_ZENITH = (0.38, 0.40, 0.43)
+# Linear radiance of the overcast overhead (Sea State's storm sky, shaders/sky.py); toward the
+# horizon a third of it (the CIE standard overcast sky). A camera's exposure follows the light:
+# the overcast is drawn as an incident meter exposes it, its irradiance on the sea (7 pi / 9
+# of this) pi in luminance, so a grey card of 0.18 reads as the view's middle grey (0.18).
+OVERCAST_ZENITH = (1.23, 1.29, 1.39)
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
 # Residual foam (stage B) against active: it reflects less as its bubbles thin (Koepke 1984:
 # 0.22 over a whitecap's life against ~0.5 fresh); drawn much dimmer it reads as grey haze.
@@ -60,6 +65,9 @@ RESIDUAL_BRIGHTNESS = 0.85
 # Aged foam (streaks) is a thin film over the water: drawn at this share of a full cover, over
 # as much more of the sea (its reflectance against fresh foam's, Koepke 1984).
 AGED_FILM = 0.75
+# How much thicker and thinner the film is with the grain noise (its rank's departure, while
+# the grain is drawn): marbled like foam, not the flat fill of a brush stroke.
+FOAM_TEXTURE = 0.3
 
 
 def body_volume(absorption, water_colour):

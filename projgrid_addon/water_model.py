@@ -22,6 +22,7 @@ from .look import (
     FOAM_LACE,
     FOAM_RANK,
     FOAM_STREAK,
+    FOAM_TEXTURE,
     GUST_FAC_STD,
     GUST_SCALE,
     RESIDUAL_BRIGHTNESS,
@@ -282,8 +283,9 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     wind than across) the aged foam (Aged Coverage, over the whole sea: patches drawn out along
     the wind, which photographs count as whitecaps), and over what that leaves the ridges
     (`ridge_rank`) of the blown streaks' noise (Fac `blown`, as drawn out) the wind's blown
-    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM over as much more of the
-    sea as makes their mean cover the shares (all of it at most): the residual over what the
+    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM (thicker and thinner by
+    FOAM_TEXTURE with the grain's rank) over as much more of the sea as makes their mean
+    cover the shares (all of it at most): the residual over what the
     active leaves, at RESIDUAL_BRIGHTNESS. Where the pixel's footprint
     along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
     foam on a grid that moves with the camera would pop), if whitecaps are called for (not
@@ -297,10 +299,14 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     lines = m.min((1.0 - i["Aged Coverage"]) * i["Blown Coverage"]
                   / m.max(AGED_FILM - i["Aged Coverage"], 1e-6), 1.0)
     shown = (footprint_, log_cos)
-    a = grain_drawn(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), grain_rank(m, fac), a, *shown)
+    grain = grain_rank(m, fac)
+    a = grain_drawn(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), grain, a, *shown)
+    # the film thick and thin with the grain while it is drawn (its mean AGED_FILM)
+    film = AGED_FILM + (AGED_FILM * FOAM_TEXTURE) * (grain * 2.0 - 1.0) * grain_shown(
+        m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), *shown)
     r = grain_drawn(m, FOAM_LACE, grain_rank(m, lace), r, *shown)
     aged = grain_drawn(m, FOAM_AGED, grain_rank(m, streak), aged, *shown)
     lines = grain_drawn(m, FOAM_BLOWN, ridge_rank(m, grain_rank(m, blown)), lines, *shown)
-    r = r + (1.0 - r) * AGED_FILM * (aged + (1.0 - aged) * lines)
+    r = r + (1.0 - r) * film * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

@@ -46,10 +46,12 @@ from ..projgrid_addon.look import (
     FOAM_CHURN,
     FOAM_DETAIL,
     FOAM_GRAIN,
+    FOAM_GRAIN_STD,
     FOAM_LACE,
     FOAM_LACE_CHURN,
     FOAM_ROUGHNESS,
     FOAM_STREAK,
+    FOAM_WARP,
     GUST_DETAIL,
     GUST_EVOLVE,
     GUST_SCALE,
@@ -208,23 +210,29 @@ def _build(group):
     water = g.vector("SUBTRACT", geo["Position"], g.node(
         "ShaderNodeAttribute", attribute_name=DRIFT_ATTRIBUTE).outputs["Vector"])
 
-    def noise(scale, along, across, churn):
+    def noise(scale, along, across, churn, offset, warp=0.0):
+        """A foam noise `along` and `across` the wind per metre (of `scale` features a metre),
+        pushed `warp` m across it; its time `offset` apart from the others' (decorrelated)."""
+        y = g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
+            "X": sin_w * -across, "Y": cos_w * across}).outputs[0])
         aligned = g.node("ShaderNodeCombineXYZ", {
             "X": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
                 "X": cos_w * along, "Y": sin_w * along}).outputs[0]),
-            "Y": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
-                "X": sin_w * -across, "Y": cos_w * across}).outputs[0])}).outputs[0]
+            "Y": y if isinstance(warp, float) else y + warp * across}).outputs[0]
         return g.value(g.node("ShaderNodeTexNoise", {
-            "Vector": aligned, "W": i["Detail Time"] * (churn / scale), "Scale": scale,
-            "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
+            "Vector": aligned, "W": i["Detail Time"] * (churn / scale) + offset / scale
+            if offset else i["Detail Time"] * (churn / scale),
+            "Scale": scale, "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
             noise_dimensions="4D").outputs["Fac"])
     active, residual = (g.value(g.node("ShaderNodeAttribute", attribute_name=name)
                                 .outputs["Fac"]) for name in (FOAM_ATTRIBUTE, RESIDUAL_ATTRIBUTE))
+    grain = noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN, 0.0)
+    warp = (grain - 0.5) * (FOAM_WARP / FOAM_GRAIN_STD)
     foam, brightness = model.foam_cover(
-        g, i, active, residual, noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN),
-        noise(FOAM_LACE, 1.0, 1.0, FOAM_LACE_CHURN),
-        noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN),
-        noise(FOAM_BLOWN, 1.0 / stretch, stretch, FOAM_LACE_CHURN), footprint, log_cos)
+        g, i, active, residual, grain, noise(FOAM_LACE, 1.0, 1.0, FOAM_LACE_CHURN, 7.0),
+        noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN, 14.0, warp),
+        noise(FOAM_BLOWN, 1.0 / stretch, stretch, FOAM_LACE_CHURN, 21.0, warp),
+        footprint, log_cos)
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {

@@ -338,7 +338,7 @@ def test_the_foam_drawn_is_monahan_s_share(water, extension):
     aged = 0.02
     streaks = Evaluator({**values, "Aged Coverage": aged}, 0.0, 3.0, incoming(1.0),
                         attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0},
-                        fac=facs).input(mix)
+                        fac={None: facs, round(look.FOAM_GRAIN, 6): 0.5}).input(mix)
     assert np.mean(streaks) == pytest.approx(aged, rel=0.02)
     assert streaks.max() == pytest.approx(look.AGED_FILM) and streaks.min() == 0.0
 

@@ -51,17 +51,21 @@ def test_the_group_draws_the_blown_streaks_over_the_aged_foam(force):
     f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960, source.slopes, u)
     i = group_inputs(f, **{"Aged Coverage": aged, "Blown Coverage": blown})
     fac, other = grain_facs(200_000, force), grain_facs(200_000, force + 100)
-    zero = np.zeros_like(fac)
+    zero, half = np.zeros_like(fac), np.full_like(fac, 0.5)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
 
-    def drawn(streak, lines):
-        return water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, streak, lines, lp,
+    def drawn(streak, lines, grain=half):
+        return water_model.foam_cover(NUMPY, i, zero, zero, grain, zero, streak, lines, lp,
                                       log_cos)
     cover, brightness = drawn(fac, other)
     want = aged + (1.0 - aged) * blown
     assert cover.mean() == pytest.approx(want, rel=0.03)
     assert cover.max() == pytest.approx(look.AGED_FILM) and cover.min() == 0.0
     assert np.all(brightness == look.RESIDUAL_BRIGHTNESS)
+    # the film thicker and thinner with the grain (FOAM_TEXTURE), its mean kept
+    marbled, _ = drawn(fac, other, grain_facs(200_000, force + 200))
+    assert marbled.mean() == pytest.approx(want, rel=0.03)
+    assert marbled.max() > look.AGED_FILM * (1.0 + 0.9 * look.FOAM_TEXTURE)
     lp, log_cos = water_model.footprint(NUMPY, i, 5e4, 1e-4)
     far, _ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, lp, log_cos)
     assert far == pytest.approx(want, rel=1e-6)
@@ -80,8 +84,8 @@ def test_aged_foam_lies_in_patches_and_blown_streaks_in_lines():
     zero = np.zeros_like(fac)
     for aged, blown in ((0.02, 0.0), (0.0, 0.1)):
         j = {**i, "Aged Coverage": aged, "Blown Coverage": blown}
-        cover, _ = water_model.foam_cover(NUMPY, j, zero, zero, zero, zero, fac, fac, lp,
-                                          log_cos)
+        cover, _ = water_model.foam_cover(NUMPY, j, zero, zero, zero + 0.5, zero, fac, fac, lp,
+                                          log_cos)  # the grain at its median: the mean film
         on = rank[cover > 0.5 * look.AGED_FILM]
         if blown == 0.0:
             assert on.min() > 0.95 and cover.mean() == pytest.approx(aged, rel=0.02)
@@ -99,7 +103,7 @@ def test_streaks_over_the_whole_sea_stay_a_film():
     fac = grain_facs(10_000, 0)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
     zero = np.zeros_like(fac)
-    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero, zero, fac, fac[::-1], lp,
-                                      log_cos)
+    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero + 0.5, zero, fac, fac[::-1],
+                                      lp, log_cos)
     assert drawn.mean() == pytest.approx(look.AGED_FILM, rel=1e-3)
     assert drawn.max() == pytest.approx(look.AGED_FILM)
