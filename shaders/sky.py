@@ -7,8 +7,8 @@ of the angle to the sun, which brightens the sky toward a low sun as in photogra
 follows the scene's sun lamp (`aim_glow`, from the frame handler) and goes out without one.
 Under cloud (`weather`: the Sea State operator's storm) it gives way to an overcast whose
 brightness grows with the height as the CIE standard overcast sky's, (1 + 2 sin h) / 3 of the
-zenith's (Moon and Spencer 1942), and the sun lamp dims behind it. The water reflects it all
-(§3.4.3).
+zenith's (Moon and Spencer 1942), mottled by a cloud noise on its base, and the sun lamp
+dims behind it. The water reflects it all (§3.4.3).
 """
 
 import math
@@ -32,6 +32,11 @@ OVERCAST = "Overcast"  # the Mix node from the clear sky to the overcast (its fa
 # The sun lamp under a full overcast: its strength against a clear sky's, and the angle it
 # spreads over (degrees): a bright patch in the cloud, not a disc, so no glitter path.
 SUN_UNDER_CLOUD, SUN_ANGLE = 0.15, (0.5, 40.0)
+# The overcast's cloud: a fractal noise on the cloud base (the view direction over its height,
+# CLOUD_SCALE features per cloud height), brightening and darkening it by up to CLOUD_CONTRAST
+# (mean 1: the light on the sea stays the CIE sky's), less toward the horizon, where a pixel
+# holds many clouds.
+CLOUD_SCALE, CLOUD_CONTRAST, CLOUD_DETAIL = 1.5, 0.45, 6.0
 
 
 def world():
@@ -70,9 +75,19 @@ def _overcast(g):
     colour = g.nodes[BACKGROUND].inputs["Color"]
     clear = colour.links[0].from_socket if colour.links else tuple(colour.default_value)
     z = g.node("ShaderNodeSeparateXYZ", {0: g.node("ShaderNodeTexCoord").outputs["Generated"]})
-    cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", g.clamp(z.outputs["Z"]), 2.0, 1.0), 3.0)
+    height = g.clamp(z.outputs["Z"])
+    cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", height, 2.0, 1.0), 3.0)
+    base = g.vector("SCALE", g.node("ShaderNodeTexCoord").outputs["Generated"],
+                    Scale=g.math("DIVIDE", 1.0, g.math("MAXIMUM", height, 0.02)))
+    cloud = g.node("ShaderNodeTexNoise", {"Vector": base, "Scale": CLOUD_SCALE,
+                                          "Detail": CLOUD_DETAIL, "Roughness": 0.6})
+    # Fac 0.5 +- 0.2 to 1 -+ CLOUD_CONTRAST, fading out below 10 degrees up
+    shade = g.math("MULTIPLY_ADD", g.math("MULTIPLY", g.math(
+        "SUBTRACT", cloud.outputs["Fac"], 0.5), g.clamp(g.math("MULTIPLY", height, 6.0))),
+        CLOUD_CONTRAST / 0.2, 1.0)
     mix = g.node("ShaderNodeMix", {"Factor_Float": 0.0, "A_Color": clear, "B_Color": g.vector(
-        "SCALE", OVERCAST_ZENITH, Scale=cie)}, data_type="RGBA")
+        "SCALE", OVERCAST_ZENITH, Scale=g.math("MULTIPLY", cie, g.math("MAXIMUM", shade, 0.2)))},
+        data_type="RGBA")
     mix.name = mix.label = OVERCAST
     g.set(colour, socket(mix.outputs, "Result_Color"))
     return mix
