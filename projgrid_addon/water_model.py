@@ -31,6 +31,7 @@ from .look import (
 )
 
 LN2 = math.log(2.0)
+LINE_PIXELS = 2.0  # a line is drawn while a pixel is at most this many times its width
 LAYER_BANDS = 3
 INPUTS = (  # name, socket type, default; all but IOR are written by the frame handler
     ("Water Colour", "NodeSocketColor", (*WATER_COLOUR, 1.0)),
@@ -260,17 +261,18 @@ def grain_cover(m, rank, share):
     return m.clamp((rank - 1.0 + share) / edge + 0.5) * m.greater(share, 0.0)
 
 
-def grain_shown(m, scale, footprint_, log_cos):
+def grain_shown(m, scale, footprint_, log_cos, log_width=0.0):
     """How much a noise of `scale` features per metre (geometric mean over its axes) is drawn:
     while the pixel's area (its length along the view times sqrt(cos)) holds few of its
-    patches, so far foam stays specks, not a veil; past that its mean."""
-    return m.clamp((-math.log(scale) - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
+    patches (features e^`log_width` as wide: its lines'), so far foam stays specks, not a
+    veil, and lines thinner than a pixel do not crawl; past that its mean."""
+    return m.clamp((-math.log(scale) + log_width - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
 
 
-def grain_drawn(m, scale, rank, share, footprint_, log_cos):
+def grain_drawn(m, scale, rank, share, footprint_, log_cos, log_width=0.0):
     """A noise of `scale` features per metre covering `share` by its `rank` (`grain_cover`)
     while it is shown (`grain_shown`), past that its mean, the share."""
-    return m.mix(grain_shown(m, scale, footprint_, log_cos), share,
+    return m.mix(grain_shown(m, scale, footprint_, log_cos, log_width), share,
                  grain_cover(m, rank, share))
 
 
@@ -306,7 +308,10 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
         m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), *shown)
     r = grain_drawn(m, FOAM_LACE, grain_rank(m, lace), r, *shown)
     aged = grain_drawn(m, FOAM_AGED, grain_rank(m, streak), aged, *shown)
-    lines = grain_drawn(m, FOAM_BLOWN, ridge_rank(m, grain_rank(m, blown)), lines, *shown)
+    # a ridge band of `lines` of the ranks is that share of its features wide: drawn while a
+    # pixel is up to twice that (LINE_PIXELS), then its mean
+    lines = grain_drawn(m, FOAM_BLOWN, ridge_rank(m, grain_rank(m, blown)), lines, *shown,
+                        m.log(m.max(lines * LINE_PIXELS, 1e-3)))
     r = r + (1.0 - r) * film * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

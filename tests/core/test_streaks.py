@@ -107,3 +107,24 @@ def test_streaks_over_the_whole_sea_stay_a_film():
                                       lp, log_cos)
     assert drawn.mean() == pytest.approx(look.AGED_FILM, rel=1e-3)
     assert drawn.max() == pytest.approx(look.AGED_FILM)
+
+
+def test_blown_lines_thinner_than_a_pixel_draw_their_mean():
+    """A blown streak is a line its share of the noise's features wide: drawn while a pixel
+    is up to twice as wide (water_model.LINE_PIXELS), its mean film where a pixel is 8 m,
+    though the noise's features (33 m) would still be drawn there: lines a fraction of a
+    pixel wide crawl as the camera moves."""
+    u = sea_states.sea_state(8).wind_speed
+    i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
+                                       SpectralField(SeaState(wind_speed=u)).slopes, u),
+                     **{"Blown Coverage": streaks.blown_coverage(u)})
+    fac = grain_facs(20_000, 3)
+    zero, half = np.zeros_like(fac), np.full_like(fac, 0.5)
+    spread = {}
+    for pixel in (0.25, 8.0):
+        cover, _ = water_model.foam_cover(NUMPY, i, zero, zero, half, zero, half, fac,
+                                          np.log(pixel), 0.0)
+        spread[pixel] = cover.std()
+        assert cover.mean() == pytest.approx(i["Blown Coverage"], rel=0.05)
+    assert spread[0.25] > 0.1 and spread[8.0] < 1e-6
+    assert 1.0 / look.FOAM_BLOWN > 8.0 * 2.0  # the noise's own features would be drawn at 8 m
