@@ -3,13 +3,13 @@ and from 40 m up (EEVEE, frame 48, the wind across the view), written to docs/ a
 beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
 Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
-The white share is measured on the picture: each shot is rendered three times, as drawn, with
-the foam muted and with foam everywhere; a pixel's foam cover is how far it went from the
-muted picture toward the all-foam one (in display values), and it is white where that is over
-a half (a sea without foam called for, force 2, has none to whiten). Monahan's share counts
-whitecaps and their foam: a fourth render draws them without the wind's blown streaks
-(streaks.blown_coverage, from Beaufort 7), whose share is the rest. `make bench` runs it
-(step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
+The white share is measured on the picture, averaged over FRAMES: each frame is rendered three
+times, as drawn, with the foam muted and with foam everywhere; a pixel's foam cover is how far
+it went from the muted picture toward the all-foam one (in display values), and it is white
+where that is over a half (a sea without foam called for, force 2, has none to whiten).
+Monahan's share counts whitecaps and their foam: from Beaufort 7 a fourth render draws them
+without the wind's blown streaks (streaks.blown_coverage), whose share is the rest.
+`make bench` runs it (step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
 
 import json
 import os
@@ -19,6 +19,9 @@ import tempfile
 FORCES = (2, 4, 6, 8, 10)
 HEIGHTS = {5.0: -4.0, 40.0: -12.0}  # camera height m: pitch deg
 FRAME = 48
+# The white share is averaged over these frames (the picture is FRAME's): one frame's view
+# holds a few large breakers at most, so its share swings several-fold about the sea's.
+FRAMES = (48, 96, 144)
 WHITE = 0.5  # a pixel's foam cover from which it reads as white
 
 
@@ -52,10 +55,11 @@ def without_blown(group, scene, path):
             group.links.new(blown, target)
 
 
-def white_share(group, scene, path):
+def white_share(group, scene, path, blown=True):
     """(white share, white share of the whitecaps and their foam, mean cover) of the sea's
     pixels in the shot, from the picture as drawn (written to `path`), two more with the Foam
-    mix's factor at 0 and at 1, and one without the blown streaks."""
+    mix's factor at 0 and at 1, and one without the blown streaks (if `blown`: there are some;
+    else the whitecaps' share is the white share)."""
     import numpy as np
 
     foam = group.nodes["Foam"].inputs[0]
@@ -69,8 +73,8 @@ def white_share(group, scene, path):
             lum[factor] = render(scene, f"{path[:-4]}_foam{int(factor)}.png")
     finally:
         group.links.new(source, foam)
-    whitecaps = without_blown(group, scene, f"{path[:-4]}_whitecaps.png")
     drawn = render(scene, path)
+    whitecaps = without_blown(group, scene, f"{path[:-4]}_whitecaps.png") if blown else drawn
     gain = lum[1.0] - lum[0.0]
     sea = gain > 0.05  # where foam could show: the sea, not the sky (none: no foam drawn)
     if not sea.any():
@@ -85,6 +89,7 @@ def shoot(out, quick=False):
     """Render every force from each height into `out` (the extension installed); the rows of
     (force, height, white share, mean cover, Monahan's share, picture)."""
     import bpy
+    import numpy as np
 
     from projgrid_addon import effects, streaks
     from tools.demo import default_shot
@@ -100,14 +105,21 @@ def shoot(out, quick=False):
             ocean = bpy.data.objects["Ocean"]
             bpy.context.view_layer.objects.active = ocean
             bpy.ops.projgrid.sea_state(beaufort=force)
-            scene.frame_set(FRAME)
             group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
             name = f"beaufort_{force}_{int(height)}m.png"
-            white, whitecaps, cover = white_share(group, scene, os.path.join(work, name))
-            os.replace(os.path.join(work, name), os.path.join(out, name))
             u = ocean.projgrid.wind_speed
+            shares = []
+            foamed = effects.whitecap_coverage(u) > effects.FOAM_MIN_COVERAGE
+            for frame in FRAMES if foamed else FRAMES[:1]:  # no foam: nothing to average
+                scene.frame_set(frame)
+                shares.append(white_share(group, scene, os.path.join(work, f"{frame}_{name}"),
+                                          streaks.blown_coverage(u) > 0.0))
+                if frame == FRAME:
+                    os.replace(os.path.join(work, f"{frame}_{name}"), os.path.join(out, name))
+            white, whitecaps, cover = (float(v) for v in np.mean(shares, axis=0))
             rows.append({"force": force, "height": height, "white": white,
                          "whitecaps": whitecaps, "cover": cover,
+                         "frames": [list(v) for v in shares],
                          "monahan": effects.whitecap_coverage(u),
                          "blown": streaks.blown_coverage(u), "path": name})
             print(json.dumps(rows[-1]), flush=True)
