@@ -1,5 +1,7 @@
 """The Beaufort pictures and the rendered white share per force: each force's preset from 5 m
-and from 40 m up (EEVEE, frame 48, the wind across the view), written to docs/ as
+and from 40 m up (EEVEE, frame 48, the wind blowing away from the camera 30 degrees to the
+right of the view, so its streaks run toward a vanishing point, as in photographs taken
+downwind; across the view they lie along the foreshortened crests), written to docs/ as
 beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
 Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
@@ -12,12 +14,14 @@ without the wind's blown streaks (streaks.blown_coverage), whose share is the re
 `make bench` runs it (step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
 
 import json
+import math
 import os
 import sys
 import tempfile
 
 FORCES = (2, 4, 6, 8, 10)
 HEIGHTS = {5.0: -4.0, 40.0: -12.0}  # camera height m: pitch deg
+WIND = 60.0  # deg counter-clockwise from +X, where the wind blows toward (the camera looks +Y)
 FRAME = 48
 # The white share is averaged over these frames (the picture is FRAME's): one frame's view
 # holds a few large breakers at most, so its share swings several-fold about the sea's.
@@ -105,6 +109,7 @@ def shoot(out, quick=False):
             ocean = bpy.data.objects["Ocean"]
             bpy.context.view_layer.objects.active = ocean
             bpy.ops.projgrid.sea_state(beaufort=force)
+            ocean.projgrid.wind_direction = math.radians(WIND)
             group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
             name = f"beaufort_{force}_{int(height)}m.png"
             u = ocean.projgrid.wind_speed

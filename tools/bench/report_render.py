@@ -300,8 +300,8 @@ def _beaufort(report):
     report.md += [
         "## 12. The Beaufort forces: the white share in the picture", "",
         "Each force's preset from 5 m (4° down) and 40 m (12° down), the picture frame 48, "
-        "the shares the mean of frames 48, 96 and 144, the wind across the view (EEVEE, 16 "
-        "samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
+        "the shares the mean of frames 48, 96 and 144, the wind blowing away 30° right of the "
+        "view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
         "goes from the picture with the foam muted toward the one with foam everywhere "
         "(display values); white where over a half. Monahan and O'Muircheartaigh's whitecap "
         "share is 1.59e-5 U^2.55, of the whitecaps and their foam: *whitecaps* is the white "
