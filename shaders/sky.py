@@ -36,7 +36,15 @@ SUN_UNDER_CLOUD, SUN_ANGLE = 0.15, (0.5, 40.0)
 # CLOUD_SCALE features per cloud height), brightening and darkening it by up to CLOUD_CONTRAST
 # (mean 1: the light on the sea stays the CIE sky's), less toward the horizon, where a pixel
 # holds many clouds.
-CLOUD_SCALE, CLOUD_CONTRAST, CLOUD_DETAIL = 1.5, 0.45, 6.0
+CLOUD_SCALE, CLOUD_CONTRAST, CLOUD_DETAIL, CLOUD_ROUGHNESS = 1.5, 0.45, 6.0, 0.6
+CLOUD_SPREAD = 0.2  # the noise's Fac from 0.5 at which the contrast is whole
+
+
+def cloud_shade(m, fac, fade):
+    """The overcast's brightness factor at the cloud noise's Fac `fac`, `fade` (0 to 1) of
+    its contrast: the world's nodes are built from it (`m` the node graph, as water_model's
+    formulas), the tests evaluate it in NumPy."""
+    return m.max((fac - 0.5) * fade * (CLOUD_CONTRAST / CLOUD_SPREAD) + 1.0, 0.2)
 
 
 def world():
@@ -80,14 +88,11 @@ def _overcast(g):
     base = g.vector("SCALE", g.node("ShaderNodeTexCoord").outputs["Generated"],
                     Scale=g.math("DIVIDE", 1.0, g.math("MAXIMUM", height, 0.02)))
     cloud = g.node("ShaderNodeTexNoise", {"Vector": base, "Scale": CLOUD_SCALE,
-                                          "Detail": CLOUD_DETAIL, "Roughness": 0.6})
-    # Fac 0.5 +- 0.2 to 1 -+ CLOUD_CONTRAST, fading out below 10 degrees up
-    shade = g.math("MULTIPLY_ADD", g.math("MULTIPLY", g.math(
-        "SUBTRACT", cloud.outputs["Fac"], 0.5), g.clamp(g.math("MULTIPLY", height, 6.0))),
-        CLOUD_CONTRAST / 0.2, 1.0)
+                                          "Detail": CLOUD_DETAIL, "Roughness": CLOUD_ROUGHNESS})
+    # fading out below 10 degrees up
+    shade = cloud_shade(g, g.value(cloud.outputs["Fac"]), g.clamp(g.math("MULTIPLY", height, 6.0)))
     mix = g.node("ShaderNodeMix", {"Factor_Float": 0.0, "A_Color": clear, "B_Color": g.vector(
-        "SCALE", OVERCAST_ZENITH, Scale=g.math("MULTIPLY", cie, g.math("MAXIMUM", shade, 0.2)))},
-        data_type="RGBA")
+        "SCALE", OVERCAST_ZENITH, Scale=g.math("MULTIPLY", cie, shade))}, data_type="RGBA")
     mix.name = mix.label = OVERCAST
     g.set(colour, socket(mix.outputs, "Result_Color"))
     return mix

@@ -115,9 +115,9 @@ def grain_noise(look, samples=700, w=3.7):
                          600.0 / look.FOAM_GRAIN, samples, w)
 
 
-def blender_noise(scale, detail, roughness, size, samples, w):
-    """The Fac of Blender's 4D noise texture over a square `size` across, `samples` a side,
-    at time `w`, evaluated through Geometry Nodes."""
+def blender_noise(scale, detail, roughness, size, samples, w, dimensions="4D"):
+    """The Fac of Blender's noise texture (4D: at time `w`) over a square `size` across,
+    `samples` a side, evaluated through Geometry Nodes."""
     mesh = bpy.data.meshes.new("grain")
     obj = bpy.data.objects.new("grain", mesh)
     bpy.context.scene.collection.objects.link(obj)
@@ -128,10 +128,11 @@ def blender_noise(scale, detail, roughness, size, samples, w):
         grid.inputs[f"Size {axis}"].default_value = size
         grid.inputs[f"Vertices {axis}"].default_value = samples
     noise = tree.nodes.new("ShaderNodeTexNoise")
-    noise.noise_dimensions = "4D"
+    noise.noise_dimensions = dimensions
     for name, value in (("Scale", scale), ("Detail", detail), ("Roughness", roughness),
                         ("W", w)):
-        noise.inputs[name].default_value = value
+        if name in noise.inputs:  # a 3D noise has no W
+            noise.inputs[name].default_value = value
     store = tree.nodes.new("GeometryNodeStoreNamedAttribute")
     store.inputs["Name"].default_value = "fac"
     links = tree.links
@@ -159,6 +160,19 @@ def test_the_whitecaps_drawn_cover_the_share(extension):
         drawn = np.mean([model.grain_cover(NUMPY, model.grain_rank(NUMPY, f), share).mean()
                          for f in facs])
         assert drawn == pytest.approx(share, rel=0.10), share
+
+
+def test_the_overcast_s_clouds_mottle_it_and_keep_its_light(extension):
+    """The storm sky's cloud noise (sky.CLOUD_*) over Blender's own noise, 400 of its features
+    across the cloud base: it brightens and darkens the overcast (by some 15 %, its standard
+    deviation; up to CLOUD_CONTRAST), and its mean is 1, so the overcast's light on the sea
+    stays the CIE sky's (optics.sky_irradiance)."""
+    sky = extension.shaders.sky
+    fac = blender_noise(sky.CLOUD_SCALE, sky.CLOUD_DETAIL, sky.CLOUD_ROUGHNESS,
+                        400.0 / sky.CLOUD_SCALE, 400, 0.0, dimensions="3D")
+    shade = sky.cloud_shade(NUMPY, fac.astype(np.float64), 1.0)
+    assert shade.mean() == pytest.approx(1.0, abs=0.02)
+    assert shade.std() > 0.1
 
 
 def test_the_noise_s_waves_are_as_long_as_the_core_says(extension):
