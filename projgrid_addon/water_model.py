@@ -269,11 +269,10 @@ def grain_shown(m, scale, footprint_, log_cos, log_width=0.0):
     return m.clamp((-math.log(scale) + log_width - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
 
 
-def grain_drawn(m, scale, rank, share, footprint_, log_cos, log_width=0.0):
-    """A noise of `scale` features per metre covering `share` by its `rank` (`grain_cover`)
-    while it is shown (`grain_shown`), past that its mean, the share."""
-    return m.mix(grain_shown(m, scale, footprint_, log_cos, log_width), share,
-                 grain_cover(m, rank, share))
+def grain_drawn(m, shown, rank, share):
+    """A noise covering `share` by its `rank` (`grain_cover`) as far as it is `shown`
+    (`grain_shown`), past that its mean, the share."""
+    return m.mix(shown, share, grain_cover(m, rank, share))
 
 
 def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log_cos):
@@ -301,17 +300,17 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     lines = m.min((1.0 - i["Aged Coverage"]) * i["Blown Coverage"]
                   / m.max(AGED_FILM - i["Aged Coverage"], 1e-6), 1.0)
     shown = (footprint_, log_cos)
-    grain = grain_rank(m, fac)
-    a = grain_drawn(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), grain, a, *shown)
+    grain, grain_seen = grain_rank(m, fac), grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK),
+                                                        *shown)
+    a = grain_drawn(m, grain_seen, grain, a)
     # the film thick and thin with the grain while it is drawn (its mean AGED_FILM)
-    film = AGED_FILM + (AGED_FILM * FOAM_TEXTURE) * (grain * 2.0 - 1.0) * grain_shown(
-        m, FOAM_GRAIN * math.sqrt(FOAM_STREAK), *shown)
-    r = grain_drawn(m, FOAM_LACE, grain_rank(m, lace), r, *shown)
-    aged = grain_drawn(m, FOAM_AGED, grain_rank(m, streak), aged, *shown)
+    film = AGED_FILM + (AGED_FILM * FOAM_TEXTURE) * (grain * 2.0 - 1.0) * grain_seen
+    r = grain_drawn(m, grain_shown(m, FOAM_LACE, *shown), grain_rank(m, lace), r)
+    aged = grain_drawn(m, grain_shown(m, FOAM_AGED, *shown), grain_rank(m, streak), aged)
     # a ridge band of `lines` of the ranks is that share of its features wide: drawn while a
     # pixel is up to twice that (LINE_PIXELS), then its mean
-    lines = grain_drawn(m, FOAM_BLOWN, ridge_rank(m, grain_rank(m, blown)), lines, *shown,
-                        m.log(m.max(lines * LINE_PIXELS, 1e-3)))
+    lines = grain_drawn(m, grain_shown(m, FOAM_BLOWN, *shown, m.log(m.max(
+        lines * LINE_PIXELS, 1e-3))), ridge_rank(m, grain_rank(m, blown)), lines)
     r = r + (1.0 - r) * film * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
     return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)

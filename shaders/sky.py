@@ -82,11 +82,11 @@ def _overcast(g):
     a factor of 0 (a world made before it had none)."""
     colour = g.nodes[BACKGROUND].inputs["Color"]
     clear = colour.links[0].from_socket if colour.links else tuple(colour.default_value)
-    z = g.node("ShaderNodeSeparateXYZ", {0: g.node("ShaderNodeTexCoord").outputs["Generated"]})
-    height = g.clamp(z.outputs["Z"])
+    direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
+    height = g.clamp(g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"])
     cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", height, 2.0, 1.0), 3.0)
-    base = g.vector("SCALE", g.node("ShaderNodeTexCoord").outputs["Generated"],
-                    Scale=g.math("DIVIDE", 1.0, g.math("MAXIMUM", height, 0.02)))
+    base = g.vector("SCALE", direction, Scale=g.math("DIVIDE", 1.0, g.math("MAXIMUM", height,
+                                                                             0.02)))
     cloud = g.node("ShaderNodeTexNoise", {"Vector": base, "Scale": CLOUD_SCALE,
                                           "Detail": CLOUD_DETAIL, "Roughness": CLOUD_ROUGHNESS})
     # fading out below 10 degrees up

@@ -210,20 +210,23 @@ def _build(group):
     water = g.vector("SUBTRACT", geo["Position"], g.node(
         "ShaderNodeAttribute", attribute_name=DRIFT_ATTRIBUTE).outputs["Vector"])
 
-    def noise(scale, along, across, churn, offset, warp=0.0):
+    def noise(scale, along, across, churn, offset, warp=None):
         """A foam noise `along` and `across` the wind per metre (of `scale` features a metre),
         pushed `warp` m across it; its time `offset` apart from the others' (decorrelated)."""
         y = g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
             "X": sin_w * -across, "Y": cos_w * across}).outputs[0])
+        if warp is not None:
+            y = y + warp * across
+        w = i["Detail Time"] * (churn / scale)
+        if offset:
+            w = w + offset / scale
         aligned = g.node("ShaderNodeCombineXYZ", {
             "X": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
                 "X": cos_w * along, "Y": sin_w * along}).outputs[0]),
-            "Y": y if isinstance(warp, float) else y + warp * across}).outputs[0]
+            "Y": y}).outputs[0]
         return g.value(g.node("ShaderNodeTexNoise", {
-            "Vector": aligned, "W": i["Detail Time"] * (churn / scale) + offset / scale
-            if offset else i["Detail Time"] * (churn / scale),
-            "Scale": scale, "Detail": FOAM_DETAIL, "Roughness": FOAM_ROUGHNESS},
-            noise_dimensions="4D").outputs["Fac"])
+            "Vector": aligned, "W": w, "Scale": scale, "Detail": FOAM_DETAIL,
+            "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D").outputs["Fac"])
     active, residual = (g.value(g.node("ShaderNodeAttribute", attribute_name=name)
                                 .outputs["Fac"]) for name in (FOAM_ATTRIBUTE, RESIDUAL_ATTRIBUTE))
     grain = noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN, 0.0)
