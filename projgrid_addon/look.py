@@ -31,6 +31,11 @@ FOAM_STREAK = 1.5  # and this many times more across it: a breaker's patches, a 
 # wind, about a metre wide at a gale's share, wider as it grows (test_shots.py measures their
 # stretch along the wind).
 FOAM_LACE, FOAM_AGED, FOAM_BLOWN = 0.25, 0.1, 0.03
+# The net noise's and the web noise's features per metre: the cells of the lace the residual
+# foam thins into and of the film's foam (aged, blown), their ridges (water_model.web); and
+# how much of its rafts the film's web fills at least: foam is a web of bubbles, not a brush
+# stroke.
+FOAM_NET, FILM_WEB, FILM_FILL = 0.8, 0.6, 0.5
 FOAM_LACE_CHURN = 0.5  # their churn (as FOAM_CHURN): residual foam drifts, it does not boil
 # m across the wind the streak noises are pushed by the grain noise's departure (in its
 # standard deviations): ragged edges a few metres long, fibres rather than brush strokes.
@@ -65,6 +70,17 @@ RESIDUAL_BRIGHTNESS = 0.85
 # Aged foam (streaks) is a thin film over the water: drawn at this share of a full cover, over
 # as much more of the sea (its reflectance against fresh foam's, Koepke 1984).
 AGED_FILM = 0.75
+# The bubble plume under a fresh breaker (stage A) glows turquoise: light scattered back by
+# bubbles under the water comes up through less water than the body's, so it is the water's
+# hue, paler: "blue-green or green, brighter than the sea but not as bright as the foamiest
+# parts" (Bohren 1987); submerged bubbles lower a whitecap's reflectance at the longer
+# wavelengths (Frouin, Schwindling and Deschamps 1996; Moore et al. 1998). Its albedo in the
+# water's brightest channel, the power of the water's hue it takes (the share of the body's
+# path it comes through), how many times the whitecap's share it covers (its margin around
+# the white) and how many times the young residual foam's ("even after a wave has broken ...
+# a pastel green patch often remains, slowly fading": the bubbles rise faster than the
+# surface foam decays).
+BUBBLE_ALBEDO, BUBBLE_PATH, BUBBLE_SPREAD, BUBBLE_RESIDUAL = 0.25, 0.3, 2.5, 0.5
 # How much thicker and thinner the film is with the grain noise (its rank's departure, while
 # the grain is drawn): marbled like foam, not the flat fill of a brush stroke.
 FOAM_TEXTURE = 0.3

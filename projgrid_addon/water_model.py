@@ -13,6 +13,12 @@ import math
 
 from .look import (
     AGED_FILM,
+    BUBBLE_ALBEDO,
+    BUBBLE_PATH,
+    BUBBLE_RESIDUAL,
+    BUBBLE_SPREAD,
+    FILM_FILL,
+    FILM_WEB,
     FOAM_AGED,
     FOAM_BLOWN,
     FOAM_COLOUR,
@@ -20,6 +26,7 @@ from .look import (
     FOAM_GRAIN,
     FOAM_GRAIN_STD,
     FOAM_LACE,
+    FOAM_NET,
     FOAM_RANK,
     FOAM_STREAK,
     FOAM_TEXTURE,
@@ -252,12 +259,13 @@ def ridge_rank(m, rank):
     return 1.0 - m.abs(rank * 2.0 - 1.0)
 
 
-def grain_cover(m, rank, share):
-    """Foam where the grain's `rank` is within `share` of the top, over an edge FOAM_EDGE *
+def grain_cover(m, rank, share, soft=FOAM_EDGE):
+    """Foam where the grain's `rank` is within `share` of the top, over an edge `soft` *
     min(share, 1 - share) wide: its mean over the grain is the share, and nothing is drawn at
     a share of nought. A whitecap is then a solid core whose edge breaks into bubbles and
-    streaks, not the round blob the vertices interpolate."""
-    edge = m.min(share, 1.0 - share) * FOAM_EDGE + 1e-4
+    streaks, not the round blob the vertices interpolate (at `soft` 2, a ramp from the top
+    rank down: a glow, not a patch)."""
+    edge = m.min(share, 1.0 - share) * soft + 1e-4
     return m.clamp((rank - 1.0 + share) / edge + 0.5) * m.greater(share, 0.0)
 
 
@@ -269,28 +277,56 @@ def grain_shown(m, scale, footprint_, log_cos, log_width=0.0):
     return m.clamp((-math.log(scale) + log_width - (log_cos * 0.5 + footprint_)) / LN2 + 1.0)
 
 
-def grain_drawn(m, shown, rank, share):
-    """A noise covering `share` by its `rank` (`grain_cover`) as far as it is `shown`
-    (`grain_shown`), past that its mean, the share."""
-    return m.mix(shown, share, grain_cover(m, rank, share))
+def grain_drawn(m, shown, rank, share, soft=FOAM_EDGE):
+    """A noise covering `share` by its `rank` (`grain_cover`, its edge `soft`) as far as it
+    is `shown` (`grain_shown`), past that its mean, the share."""
+    return m.mix(shown, share, grain_cover(m, rank, share, soft))
 
 
-def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log_cos):
-    """The foam drawn at a point: (the Foam mix's factor, its brightness against fresh foam).
+def bubble_albedo(m, albedo, brightest):
+    """A fresh breaker's bubble plume's diffuse albedo in a channel where the water body's is
+    `albedo` (`brightest` its largest over the channels): BUBBLE_ALBEDO times the water's hue
+    to the power BUBBLE_PATH (its light comes through that share of the body's path), never
+    darker than the water."""
+    return m.max(m.pow(albedo / m.max(brightest, 1e-6), BUBBLE_PATH) * BUBBLE_ALBEDO, albedo)
+
+
+def web(m, scale, fill, ridge, footprint_):
+    """A web of a noise of `scale` features a metre, its ridges (`ridge`, its `ridge_rank`)
+    over `fill` of its ranks: lines `fill` of its features wide, drawn while a pixel is up to
+    LINE_PIXELS times that, past that all of it (so lace drawn over it stays solid specks,
+    not a veil): (its cover, the share it covers as drawn). `footprint_`: (footprint, log cos)
+    as `grain_shown` takes them."""
+    seen = grain_shown(m, scale, *footprint_, m.log(m.max(fill * LINE_PIXELS, 1e-3)))
+    filled = m.mix(seen, 1.0, fill)
+    return grain_drawn(m, seen, ridge, filled), filled
+
+
+def foam_cover(m, i, active, residual, fac, lace, net, streak, blown, web_, footprint_,
+               log_cos):
+    """The foam drawn at a point: (the Foam mix's factor, its brightness against fresh foam,
+    how much of the water body the whitecaps' bubble plume lights: `bubble_albedo`).
     The vertices carry the active whitecaps' share `active` (stage A) and their young residual
     foam's `residual` (stage B, residual_foam.py). The top ranks of the grain noise (Fac `fac`)
     cover the first (`grain_cover`), the lace noise's (Fac `lace`: larger patches, churning
-    slower) the second, the streak noise's (Fac `streak`, Foam Streak times longer along the
-    wind than across) the aged foam (Aged Coverage, over the whole sea: patches drawn out along
-    the wind, which photographs count as whitecaps), and over what that leaves the ridges
+    slower) the second, thinning into lace as it decays (rafts over the square root of its
+    share, each filled as much by the web of the net noise, Fac `net`), the streak
+    noise's (Fac `streak`, Foam Streak times longer along the wind than across) the aged foam
+    (Aged Coverage, over the whole sea: patches drawn out along the wind, which photographs
+    count as whitecaps), and over what that leaves the ridges
     (`ridge_rank`) of the blown streaks' noise (Fac `blown`, as drawn out) the wind's blown
-    streaks (Blown Coverage): thin lines. Both a film of AGED_FILM (thicker and thinner by
+    streaks (Blown Coverage): thin lines. Both in rafts filled by the web of the web noise
+    (Fac `web_`), and a film of AGED_FILM (thicker and thinner by
     FOAM_TEXTURE with the grain's rank) over as much more of the sea as makes their mean
     cover the shares (all of it at most): the residual over what the
     active leaves, at RESIDUAL_BRIGHTNESS. Where the pixel's footprint
     along the view outgrows a WHITECAP the vertices' shares are the sea's means (per-vertex
     foam on a grid that moves with the camera would pop), if whitecaps are called for (not
-    contact foam alone); each noise is drawn while `grain_shown`, past that its share."""
+    contact foam alone); each noise is drawn while `grain_shown`, past that its share. The
+    plume covers BUBBLE_SPREAD times the active share by the grain's top ranks and
+    BUBBLE_RESIDUAL times the young residual's by the lace noise's, each a glow fading from
+    the core out (`grain_cover`'s ramp): a margin around each whitecap's white and a fading
+    patch under the lace where it broke (far off, the sea's mean shares)."""
     whole = m.clamp((footprint_ - math.log(WHITECAP)) / LN2) * m.greater(i["Foam Coverage"], 0.0)
     a = m.mix(whole, active, i["Foam Coverage"])
     r = m.mix(whole, residual, i["Residual Coverage"])
@@ -302,15 +338,28 @@ def foam_cover(m, i, active, residual, fac, lace, streak, blown, footprint_, log
     shown = (footprint_, log_cos)
     grain, grain_seen = grain_rank(m, fac), grain_shown(m, FOAM_GRAIN * math.sqrt(FOAM_STREAK),
                                                         *shown)
+    lace, lace_seen = grain_rank(m, lace), grain_shown(m, FOAM_LACE, *shown)
+    # the plume glows from the whitecap's core (its top ranks) out, and under the residual's
+    plume = grain_drawn(m, grain_seen, grain, m.min(a * BUBBLE_SPREAD, 1.0), 2.0)
+    plume = plume + (1.0 - plume) * grain_drawn(m, lace_seen, lace, r * BUBBLE_RESIDUAL, 2.0)
     a = grain_drawn(m, grain_seen, grain, a)
     # the film thick and thin with the grain while it is drawn (its mean AGED_FILM)
     film = AGED_FILM + (AGED_FILM * FOAM_TEXTURE) * (grain * 2.0 - 1.0) * grain_seen
-    r = grain_drawn(m, grain_shown(m, FOAM_LACE, *shown), grain_rank(m, lace), r)
-    aged = grain_drawn(m, grain_shown(m, FOAM_AGED, *shown), grain_rank(m, streak), aged)
-    # a ridge band of `lines` of the ranks is that share of its features wide: drawn while a
-    # pixel is up to twice that (LINE_PIXELS), then its mean
+    # Lace: the residual's rafts (the lace noise's top ranks) filled by the net noise's web,
+    # sqrt(r) each, so it thins into lace as it decays; the film's foam, aged and blown, in
+    # rafts filled by the web noise's, FILM_FILL at least (foam is a web of bubbles, not a
+    # brush stroke). Where a web is not drawn its rafts are the shares (solid specks).
+    net, net_filled = web(m, FOAM_NET, m.sqrt(r), ridge_rank(m, grain_rank(m, net)), shown)
+    r = grain_drawn(m, lace_seen, lace, r / m.max(net_filled, 1e-6)) * net
+    total = aged + (1.0 - aged) * lines
+    film_web, filled = web(m, FILM_WEB, m.max(total, FILM_FILL),
+                           ridge_rank(m, grain_rank(m, web_)), shown)
+    aged_rafts = aged / m.max(filled, 1e-6)
+    # a ridge band of the ranks is that share of its features wide (lines: `web`)
+    line_rafts = (total - aged) / m.max(filled - aged, 1e-6)
+    aged = grain_drawn(m, grain_shown(m, FOAM_AGED, *shown), grain_rank(m, streak), aged_rafts)
     lines = grain_drawn(m, grain_shown(m, FOAM_BLOWN, *shown, m.log(m.max(
-        lines * LINE_PIXELS, 1e-3))), ridge_rank(m, grain_rank(m, blown)), lines)
-    r = r + (1.0 - r) * film * (aged + (1.0 - aged) * lines)
+        line_rafts * LINE_PIXELS, 1e-3))), ridge_rank(m, grain_rank(m, blown)), line_rafts)
+    r = r + (1.0 - r) * film * film_web * (aged + (1.0 - aged) * lines)
     cover = a + (1.0 - a) * r
-    return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0)
+    return cover, m.mix(a / m.max(cover, 1e-6), RESIDUAL_BRIGHTNESS, 1.0), plume

@@ -41,6 +41,7 @@ import bpy
 from ..projgrid_addon import water_model as model
 from ..projgrid_addon.look import (
     DAYLIGHT,
+    FILM_WEB,
     FOAM_AGED,
     FOAM_BLOWN,
     FOAM_CHURN,
@@ -49,6 +50,7 @@ from ..projgrid_addon.look import (
     FOAM_GRAIN_STD,
     FOAM_LACE,
     FOAM_LACE_CHURN,
+    FOAM_NET,
     FOAM_ROUGHNESS,
     FOAM_STREAK,
     FOAM_WARP,
@@ -65,7 +67,7 @@ MATERIAL = "Projected Grid Water"
 BODY_MATERIAL = "Projected Grid Water Body"
 SHADOW_MATERIAL = "Projected Grid Water Shadow"
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 30  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 31  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -187,7 +189,8 @@ def _build(group):
     # inverts the IOR on back faces itself).
     # The light the water scatters back up is lit (a night sea is dark): diffuse, of the
     # albedo that gives back Water Colour in DAYLIGHT, on the waves' normal, so faces turned
-    # from the sun take less of it and go slate.
+    # from the sun take less of it and go slate (brighter where a fresh breaker's bubbles
+    # are: below, with the foam).
     albedo = g.vector("MINIMUM", g.vector("MULTIPLY", i["Water Colour"], tuple(
         math.pi / e for e in DAYLIGHT)), (1.0, 1.0, 1.0))  # no more light than it receives
     colour = g.node("ShaderNodeBsdfDiffuse", {"Color": albedo, "Normal": normal})
@@ -207,6 +210,7 @@ def _build(group):
     # foam as streaks of its top ranks, the wind's blown streaks as a fourth's ridges.
     cos_w, sin_w = g.cos(i["Wind Direction"]), g.sin(i["Wind Direction"])
     stretch = g.sqrt(i["Foam Streak"])
+    fibre = g.sqrt(stretch)  # the film's web drawn out half as much (in log) as its streaks
     water = g.vector("SUBTRACT", geo["Position"], g.node(
         "ShaderNodeAttribute", attribute_name=DRIFT_ATTRIBUTE).outputs["Vector"])
 
@@ -231,11 +235,20 @@ def _build(group):
                                 .outputs["Fac"]) for name in (FOAM_ATTRIBUTE, RESIDUAL_ATTRIBUTE))
     grain = noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN, 0.0)
     warp = (grain - 0.5) * (FOAM_WARP / FOAM_GRAIN_STD)
-    foam, brightness = model.foam_cover(
+    foam, brightness, plume = model.foam_cover(
         g, i, active, residual, grain, noise(FOAM_LACE, 1.0, 1.0, FOAM_LACE_CHURN, 7.0),
+        noise(FOAM_NET, 1.0, 1.0, FOAM_LACE_CHURN, 28.0),
         noise(FOAM_AGED, 1.0 / stretch, stretch, FOAM_LACE_CHURN, 14.0, warp),
         noise(FOAM_BLOWN, 1.0 / stretch, stretch, FOAM_LACE_CHURN, 21.0, warp),
-        footprint, log_cos)
+        noise(FILM_WEB, 1.0 / fibre, fibre, FOAM_LACE_CHURN, 35.0), footprint, log_cos)
+    # The bubble plume under a fresh breaker lights the water body turquoise.
+    channels = g.node("ShaderNodeSeparateXYZ", {0: albedo})
+    water_rgb = [g.value(channels.outputs[k]) for k in "XYZ"]
+    brightest = g.max(g.max(water_rgb[0], water_rgb[1]), water_rgb[2])
+    bubbles = g.node("ShaderNodeCombineXYZ", {
+        k: model.bubble_albedo(g, c, brightest) for k, c in zip("XYZ", water_rgb, strict=True)})
+    g.set(colour.inputs["Color"], g.vector("ADD", albedo, g.vector(
+        "SCALE", g.vector("SUBTRACT", bubbles.outputs[0], albedo), Scale=plume)))
     # Foam scatters like the white of its bubbles and shines forward like their films: a
     # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
     cover = g.node("ShaderNodeAddShader", {

@@ -153,6 +153,15 @@ def find(tree, kinds, **linked):
                 and all(n.inputs[k].is_linked == v for k, v in linked.items()))
 
 
+def diffuse_colour(tree, operation):
+    """The Color input of the diffuse BSDF fed by a Vector Math node of `operation` (SCALE: the
+    foam's, ADD: the water body's)."""
+    return next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
+                and n.inputs["Color"].is_linked
+                and n.inputs["Color"].links[0].from_node.bl_idname == "ShaderNodeVectorMath"
+                and n.inputs["Color"].links[0].from_node.operation == operation).inputs["Color"]
+
+
 CASES = [(d, c, lod) for d in (3.0, 15.0, 40.0, 400.0, 4000.0, 4e4, 4e5) for c in (0.05, 0.4, 1.0)
          for lod in (-6.0, -1.5, 0.7, 3.0)]
 
@@ -176,12 +185,11 @@ def test_the_tree_computes_the_model(water):
                 and n.operation == "MULTIPLY" and n.inputs[1].is_linked
                 and n.inputs[1].links[0].from_node.bl_idname == "ShaderNodeCombineXYZ")
     foam, fresnel = tree.nodes["Foam"].inputs[0], find(tree, ("NodeGroupOutput",)).inputs["Fresnel"]
-    foam_colour = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
-                       and n.inputs["Color"].is_linked and n.inputs["Color"].links[0]
-                       .from_node.bl_idname == "ShaderNodeVectorMath"
-                       and n.inputs["Color"].links[0].from_node.operation == "SCALE"
-                       ).inputs["Color"]
-    seen = {"roughness": set(), "facets": set(), "gust": set(), "gain": set(), "foam": set()}
+    foam_colour, body = (diffuse_colour(tree, op) for op in ("SCALE", "ADD"))
+    water_albedo = np.minimum(values["Water Colour"] * np.pi / np.asarray(look.DAYLIGHT), 1.0)
+    bubbles = model.bubble_albedo(NUMPY, water_albedo, water_albedo.max())
+    seen = {"roughness": set(), "facets": set(), "gust": set(), "gain": set(), "foam": set(),
+            "plume": set()}
     for (d, c, lod), sun, fac, share, band, left in zip(
             CASES, itertools.cycle((0.0, 0.3, 1.0, None)),
             itertools.cycle((0.5, 0.38, 0.6, 0.71, 0.45)),
@@ -196,10 +204,10 @@ def test_the_tree_computes_the_model(water):
         flat = {**one, **{f"Layer Slopes {k}": np.zeros(3) for k in (1, 2, 3)}}
         attributes = {"projgrid_foam": share, "projgrid_foam_residual": left}
         # each foam noise its own value: a noise swapped for another in the build shows
-        foams = [fac, *(0.5 + (fac - 0.5) * k + 0.05 * k for k in (-1.0, 0.6, 1.5))]
+        foams = [fac, *(0.5 + (fac - 0.5) * k + 0.05 * k for k in (-1.0, -0.4, 0.6, 1.5, -0.7))]
         facs = {None: fac, **{round(scale, 6): f for scale, f in zip(
-            (look.FOAM_GRAIN, look.FOAM_LACE, look.FOAM_AGED, look.FOAM_BLOWN), foams,
-            strict=True)}}
+            (look.FOAM_GRAIN, look.FOAM_LACE, look.FOAM_NET, look.FOAM_AGED, look.FOAM_BLOWN,
+             look.FILM_WEB), foams, strict=True)}}
         ev = Evaluator(flat, lod, d, incoming(c), attributes=attributes, fac=facs)
         tilted = Evaluator(one, lod, d, incoming(c), attributes=attributes, fac=facs)
 
@@ -226,14 +234,17 @@ def test_the_tree_computes_the_model(water):
         gain = model.layer_gain(NUMPY, lod, one[f"Layer Level {band}"],
                                 one[f"Layer Top Log {band}"], one[f"Layer Bottom Log {band}"], lp)
         assert -tilted.output(tilt.outputs[0])[0] == pytest.approx(gain, rel=1e-5, abs=1e-7)
-        drawn, brightness = model.foam_cover(NUMPY, flat, share, left, *foams, lp, log_cos)
+        drawn, brightness, plume = model.foam_cover(NUMPY, flat, share, left, *foams, lp,
+                                                    log_cos)
         assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
+        assert ev.input(body) == pytest.approx(
+            water_albedo + (bubbles - water_albedo) * plume, rel=1e-5)
         assert ev.input(foam_colour) == pytest.approx(values["Foam Colour"] * brightness,
                                                       rel=1e-5)
         exact = model.fresnel(NUMPY, flat["IOR"], c, 0.0)
         assert ev.input(fresnel) == pytest.approx(
             model.mean_fresnel(NUMPY, exact, c, slopes, 0.0), rel=1e-5)
-        for key, v in zip(seen, (slopes, facets, gust, gain, drawn), strict=True):
+        for key, v in zip(seen, (slopes, facets, gust, gain, drawn, plume), strict=True):
             seen[key].add(round(float(v), 4))
     # the cases reach every part of the formulas: far and near, facets and none, calm and
     # gusty patches beyond a standard deviation of the wind each way, bands held and not,
@@ -244,6 +255,9 @@ def test_the_tree_computes_the_model(water):
     assert {0.0} < seen["gain"] and max(seen["gain"]) > 0.5
     far = 0.03 + 0.97 * (0.05 + 0.95 * (0.01 + 0.99 * 0.1))
     assert {0.0, 1.0, round(far, 4)} <= seen["foam"], sorted(seen["foam"])
+    far = 0.03 * look.BUBBLE_SPREAD
+    far = far + (1.0 - far) * 0.05 * look.BUBBLE_RESIDUAL
+    assert {0.0, 1.0, round(far, 4)} <= seen["plume"], sorted(seen["plume"])
 
 
 def fresnel_eq_1_4(n1, n2, cos_i):
@@ -327,10 +341,13 @@ def test_the_foam_drawn_is_monahan_s_share(water, extension):
     cdf = core.water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
     facs = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(400) + 0.5) / 400, cdf, z)
     young = {**values, "Aged Coverage": 0.0}
+    # every noise's ranks evenly, and every pair of them with the webs' noises'
+    each = {None: facs[:, None], **{round(s, 6): facs[None, :]
+                                    for s in (look.FOAM_NET, look.FILM_WEB)}}
     for share, stage in itertools.product((0.02, 0.3), ("projgrid_foam", "projgrid_foam_residual")):
         drawn = Evaluator(young, 0.0, 3.0, incoming(1.0),
                           attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0,
-                                      stage: share}, fac=facs).input(mix)
+                                      stage: share}, fac=each).input(mix)
         assert np.mean(drawn) == pytest.approx(share, rel=0.02), (share, stage)
         assert drawn.max() == 1.0 and drawn.min() == 0.0  # a solid core, bare water around
     # the aged foam, over the whole sea: a film of AGED_FILM over its share / AGED_FILM (a gale's
@@ -338,7 +355,7 @@ def test_the_foam_drawn_is_monahan_s_share(water, extension):
     aged = 0.02
     streaks = Evaluator({**values, "Aged Coverage": aged}, 0.0, 3.0, incoming(1.0),
                         attributes={"projgrid_foam": 0.0, "projgrid_foam_residual": 0.0},
-                        fac={None: facs, round(look.FOAM_GRAIN, 6): 0.5}).input(mix)
+                        fac={**each, round(look.FOAM_GRAIN, 6): 0.5}).input(mix)
     assert np.mean(streaks) == pytest.approx(aged, rel=0.02)
     assert streaks.max() == pytest.approx(look.AGED_FILM) and streaks.min() == 0.0
 
@@ -373,15 +390,13 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
 
     node, _ = water
     values = group_values(node)
-    diffuse = next(n for n in node.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"
-                   and n.inputs["Color"].is_linked
-                   and n.inputs["Color"].links[0].from_node.bl_idname == "ShaderNodeVectorMath")
-    albedo = Evaluator(values, 0.0, 10.0, (0.0, 0.0, 1.0)).input(diffuse.inputs["Color"])
+    body = diffuse_colour(node.node_tree, "ADD")  # no whitecap: no bubble plume
+    albedo = Evaluator(values, 0.0, 10.0, (0.0, 0.0, 1.0)).input(body)
     assert albedo * np.asarray(water_module.DAYLIGHT) / math.pi == pytest.approx(
         values["Water Colour"], rel=1e-4)
     # A colour brighter than the daylight can give back scatters all it receives, no more.
     bright = {**values, "Water Colour": np.array([0.9, 0.2, 0.9])}
-    albedo = Evaluator(bright, 0.0, 10.0, (0.0, 0.0, 1.0)).input(diffuse.inputs["Color"])
+    albedo = Evaluator(bright, 0.0, 10.0, (0.0, 0.0, 1.0)).input(body)
     assert albedo == pytest.approx([1.0, 0.2 * math.pi / water_module.DAYLIGHT[1], 1.0])
     # Lit, not glowing: nothing in the group emits (a dusk sea would shine in the dark).
     assert not any(n.bl_idname == "ShaderNodeEmission" for n in node.node_tree.nodes)

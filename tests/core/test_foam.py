@@ -193,13 +193,13 @@ def test_far_whitecaps_stay_specks():
     f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=15.0)).slopes, 15.0)
     patches = 1.0 / (FOAM_GRAIN * np.sqrt(FOAM_STREAK)), 1.0 / FOAM_LACE
     assert patches == pytest.approx((2.72, 4.0), rel=0.01) and WHITECAP == 8.0
-    fac = grain_facs(400_000, 3)
+    fac, net = grain_facs(400_000, 3), grain_facs(400_000, 4)
     i = group_inputs(f, **{"Foam Coverage": 0.006, "Residual Coverage": 0.014})
 
     def drawn(d, active, residual):
         lp, log_cos = water_model.footprint(NUMPY, i, d, 4.0 / d)
-        return water_model.foam_cover(NUMPY, i, active, residual, fac, fac[::-1], fac, fac, lp,
-                                      log_cos)[0]
+        return water_model.foam_cover(NUMPY, i, active, residual, fac, fac[::-1], net, fac,
+                                      fac, net, lp, log_cos)[0]
     assert np.exp(footprint_log(f, 400.0, 4.0 / 400.0)) > max(patches)
     for active, residual in ((0.05, 0.0), (0.0, 0.05)):
         near = drawn(400.0, active, residual)

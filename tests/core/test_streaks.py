@@ -51,46 +51,58 @@ def test_the_group_draws_the_blown_streaks_over_the_aged_foam(force):
     f = shading.filtering(perspective(np.radians(40.0), 16 / 9, 0.1, 1e4), 960, source.slopes, u)
     i = group_inputs(f, **{"Aged Coverage": aged, "Blown Coverage": blown})
     fac, other = grain_facs(200_000, force), grain_facs(200_000, force + 100)
+    net = grain_facs(200_000, force + 300)
     zero, half = np.zeros_like(fac), np.full_like(fac, 0.5)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
 
     def drawn(streak, lines, grain=half):
-        return water_model.foam_cover(NUMPY, i, zero, zero, grain, zero, streak, lines, lp,
-                                      log_cos)
-    cover, brightness = drawn(fac, other)
+        return water_model.foam_cover(NUMPY, i, zero, zero, grain, zero, zero, streak, lines,
+                                      net, lp, log_cos)
+    cover, brightness, _ = drawn(fac, other)
     want = aged + (1.0 - aged) * blown
     assert cover.mean() == pytest.approx(want, rel=0.03)
     assert cover.max() == pytest.approx(look.AGED_FILM) and cover.min() == 0.0
     assert np.all(brightness == look.RESIDUAL_BRIGHTNESS)
     # the film thicker and thinner with the grain (FOAM_TEXTURE), its mean kept
-    marbled, _ = drawn(fac, other, grain_facs(200_000, force + 200))
+    marbled, *_ = drawn(fac, other, grain_facs(200_000, force + 200))
     assert marbled.mean() == pytest.approx(want, rel=0.03)
     assert marbled.max() > look.AGED_FILM * (1.0 + 0.9 * look.FOAM_TEXTURE)
     lp, log_cos = water_model.footprint(NUMPY, i, 5e4, 1e-4)
-    far, _ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, lp, log_cos)
+    far, *_ = water_model.foam_cover(NUMPY, i, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, lp,
+                                     log_cos)
     assert far == pytest.approx(want, rel=1e-6)
 
 
 def test_aged_foam_lies_in_patches_and_blown_streaks_in_lines():
-    """The aged foam covers the streak noise's top ranks (patches), the blown streaks the
-    middle ranks of theirs (its ridges: lines along its middle contour), each its share."""
-    rank = np.linspace(0.0, 1.0, 20001)[1:-1]
+    """The aged foam covers the streak noise's top ranks (patches of lace: FILM_FILL of them
+    filled by the web noise's ridges), the blown streaks the middle ranks of theirs (its
+    ridges: lines along its middle contour), each its share."""
     z = np.linspace(-12.0, 12.0, 200_001)
     cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
-    fac = 0.5 + look.FOAM_GRAIN_STD * np.interp(rank, cdf, z)  # the noise at these ranks
+
+    def facs(n):  # the noise at n ranks, evenly
+        rank = (np.arange(n) + 0.5) / n
+        return rank, 0.5 + look.FOAM_GRAIN_STD * np.interp(rank, cdf, z)
+    rank, fac = facs(4000)
+    fac, net = fac[:, None], facs(400)[1][None, :]  # every pair of ranks
     i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
                                        SpectralField(SeaState(wind_speed=22.6)).slopes, 22.6))
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
     zero = np.zeros_like(fac)
     for aged, blown in ((0.02, 0.0), (0.0, 0.1)):
         j = {**i, "Aged Coverage": aged, "Blown Coverage": blown}
-        cover, _ = water_model.foam_cover(NUMPY, j, zero, zero, zero + 0.5, zero, fac, fac, lp,
-                                          log_cos)  # the grain at its median: the mean film
-        on = rank[cover > 0.5 * look.AGED_FILM]
+        cover, *_ = water_model.foam_cover(NUMPY, j, zero, zero, zero + 0.5, zero, zero, fac,
+                                          fac, net, lp, log_cos)  # the grain at its median
+        on = rank[(cover > 0.5 * look.AGED_FILM).any(axis=1)]
         if blown == 0.0:
-            assert on.min() > 0.95 and cover.mean() == pytest.approx(aged, rel=0.02)
+            rafts = aged / look.AGED_FILM / look.FILM_FILL
+            assert on.min() == pytest.approx(1.0 - rafts, abs=0.005)
+            assert (cover[rank > 1.0 - rafts] > 0.5 * look.AGED_FILM).mean() == pytest.approx(
+                look.FILM_FILL, abs=0.02)
+            assert cover.mean() == pytest.approx(aged, rel=0.02)
         else:
-            assert np.abs(on - 0.5).max() < 0.1
+            rafts = blown / look.AGED_FILM / look.FILM_FILL  # the ridge band's share of ranks
+            assert np.abs(on - 0.5).max() == pytest.approx(0.5 * rafts, abs=0.01)
             assert cover.mean() == pytest.approx(blown, rel=0.02)
 
 
@@ -103,8 +115,8 @@ def test_streaks_over_the_whole_sea_stay_a_film():
     fac = grain_facs(10_000, 0)
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
     zero = np.zeros_like(fac)
-    drawn, _ = water_model.foam_cover(NUMPY, i, zero, zero, zero + 0.5, zero, fac, fac[::-1],
-                                      lp, log_cos)
+    drawn, *_ = water_model.foam_cover(NUMPY, i, zero, zero, zero + 0.5, zero, zero, fac,
+                                       fac[::-1], grain_facs(10_000, 1), lp, log_cos)
     assert drawn.mean() == pytest.approx(look.AGED_FILM, rel=1e-3)
     assert drawn.max() == pytest.approx(look.AGED_FILM)
 
@@ -118,12 +130,12 @@ def test_blown_lines_thinner_than_a_pixel_draw_their_mean():
     i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
                                        SpectralField(SeaState(wind_speed=u)).slopes, u),
                      **{"Blown Coverage": streaks.blown_coverage(u)})
-    fac = grain_facs(20_000, 3)
+    fac, net = grain_facs(20_000, 3), grain_facs(20_000, 4)
     zero, half = np.zeros_like(fac), np.full_like(fac, 0.5)
     spread = {}
     for pixel in (0.25, 8.0):
-        cover, _ = water_model.foam_cover(NUMPY, i, zero, zero, half, zero, half, fac,
-                                          np.log(pixel), 0.0)
+        cover, *_ = water_model.foam_cover(NUMPY, i, zero, zero, half, zero, zero, half, fac,
+                                          net, np.log(pixel), 0.0)
         spread[pixel] = cover.std()
         assert cover.mean() == pytest.approx(i["Blown Coverage"], rel=0.05)
     assert spread[0.25] > 0.1 and spread[8.0] < 1e-6
