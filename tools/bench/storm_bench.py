@@ -75,8 +75,9 @@ def _timed(fn):
 
 def _stage_b_switch(bpy):
     """A function turning this tree's residual foam (stage B) off and on again: the per-vertex
-    residual not made, the water group's residual and aged-foam noises gone (a copy of the
-    group without them); None in a tree without stage B."""
+    residual not made, the water group's noises of the residual foam (its rafts and lace)
+    and of the aged foam gone (a copy of the group without them); None in a tree without
+    stage B."""
     import importlib
 
     from tools.demo import MODULE
@@ -92,7 +93,7 @@ def _stage_b_switch(bpy):
     for noise in [n for n in without.nodes if n.type == "TEX_NOISE"
                   and not n.inputs["Scale"].links and min(
                       abs(n.inputs["Scale"].default_value - s)
-                      for s in (look.FOAM_LACE, look.FOAM_AGED)) < 1e-6]:
+                      for s in (look.FOAM_LACE, look.FOAM_NET, look.FOAM_AGED)) < 1e-6]:
         without.nodes.remove(noise)
 
     def switch(on):
