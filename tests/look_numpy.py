@@ -56,10 +56,19 @@ def footprint_log(f, distance, cos_view=1.0):
     return water_model.footprint(NUMPY, group_inputs(f), d, np.asarray(cos_view, float))[0]
 
 
-def grain_facs(n, seed):
-    """Fac samples of a grain noise whose CDF is the water group's (look.FOAM_RANK, spread
-    look.FOAM_GRAIN_STD): inverse transform sampling."""
+def grain_facs_at(ranks):
+    """The Fac of a grain noise whose CDF is the water group's (look.FOAM_RANK, spread
+    look.FOAM_GRAIN_STD) at its `ranks` (0 to 1): the CDF inverted."""
     z = np.linspace(-12.0, 12.0, 200_001)
     cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
-    return 0.5 + look.FOAM_GRAIN_STD * np.interp(np.random.default_rng(seed).uniform(size=n),
-                                                 cdf, z)
+    return 0.5 + look.FOAM_GRAIN_STD * np.interp(ranks, cdf, z)
+
+
+def even_ranks(n):
+    """n ranks evenly over 0 to 1, each in the middle of its n-th."""
+    return (np.arange(n) + 0.5) / n
+
+
+def grain_facs(n, seed):
+    """Fac samples of the grain noise (`grain_facs_at`): inverse transform sampling."""
+    return grain_facs_at(np.random.default_rng(seed).uniform(size=n))

@@ -10,7 +10,7 @@ import math
 import bpy
 import numpy as np
 import pytest
-from look_numpy import NUMPY
+from look_numpy import NUMPY, even_ranks, grain_facs_at
 
 from .helpers import spectral_sea
 from .node_eval import FACET_RANDOM, Evaluator
@@ -229,9 +229,7 @@ def test_the_foam_drawn_is_monahan_s_share(water, extension):
         left = residual + (1.0 - residual) * aged
         assert far.input(mix) == pytest.approx(active + (1.0 - active) * left, rel=1e-5)
     look = core.look
-    z = np.linspace(-12.0, 12.0, 20001)
-    cdf = core.water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
-    facs = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(400) + 0.5) / 400, cdf, z)
+    facs = grain_facs_at(even_ranks(400))
     young = {**values, "Aged Coverage": 0.0}
     # every noise's ranks evenly, and every pair of them with the webs' noises'
     each = {None: facs[:, None], **{round(s, 6): facs[None, :]

@@ -3,7 +3,7 @@ breaker, the residual foam thinning into lace."""
 
 import numpy as np
 import pytest
-from look_numpy import NUMPY, grain_facs, group_inputs
+from look_numpy import NUMPY, even_ranks, grain_facs, grain_facs_at, group_inputs
 
 from projgrid_addon import look, shading, water_model
 from projgrid_addon.camera import perspective
@@ -65,9 +65,7 @@ def test_residual_foam_thins_into_lace():
     proj = perspective(np.radians(40.0), 16 / 9, 0.1, 1e4)
     f = shading.filtering(proj, 960, SpectralField(SeaState(wind_speed=15.0)).slopes, 15.0)
     i = group_inputs(f, **{"Residual Coverage": 0.02})
-    z = np.linspace(-12.0, 12.0, 200_001)
-    cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
-    even = 0.5 + look.FOAM_GRAIN_STD * np.interp((np.arange(1500) + 0.5) / 1500, cdf, z)
+    even = grain_facs_at(even_ranks(1500))
     lace, net = even[:, None], even[None, :]  # every pair of ranks, evenly
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
     raft = water_model.grain_rank(NUMPY, lace) > 0.5  # the top half of the lace noise's ranks

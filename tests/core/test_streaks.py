@@ -3,7 +3,7 @@ Powell and Pietrzak (2012), and as the water group's formula draws it."""
 
 import numpy as np
 import pytest
-from look_numpy import NUMPY, grain_facs, group_inputs
+from look_numpy import NUMPY, even_ranks, grain_facs, grain_facs_at, group_inputs
 
 from projgrid_addon import foam, look, sea_states, shading, streaks, water_model
 from projgrid_addon.camera import perspective
@@ -77,14 +77,9 @@ def test_aged_foam_lies_in_patches_and_blown_streaks_in_lines():
     """The aged foam covers the streak noise's top ranks (patches of lace: FILM_FILL of them
     filled by the web noise's ridges), the blown streaks the middle ranks of theirs (its
     ridges: lines along its middle contour), each its share."""
-    z = np.linspace(-12.0, 12.0, 200_001)
-    cdf = water_model.grain_rank(NUMPY, 0.5 + z * look.FOAM_GRAIN_STD)
-
-    def facs(n):  # the noise at n ranks, evenly
-        rank = (np.arange(n) + 0.5) / n
-        return rank, 0.5 + look.FOAM_GRAIN_STD * np.interp(rank, cdf, z)
-    rank, fac = facs(4000)
-    fac, net = fac[:, None], facs(400)[1][None, :]  # every pair of ranks
+    rank = even_ranks(4000)
+    # every pair of the streak noises' ranks and the web's, evenly
+    fac, net = grain_facs_at(rank)[:, None], grain_facs_at(even_ranks(400))[None, :]
     i = group_inputs(shading.filtering(perspective(1.0, 1.0, 0.1, 1e4), 960,
                                        SpectralField(SeaState(wind_speed=22.6)).slopes, 22.6))
     lp, log_cos = water_model.footprint(NUMPY, i, 3.0, 1.0)
