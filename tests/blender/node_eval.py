@@ -61,11 +61,19 @@ class Evaluator:
                       # the glint facet's cell: its two random values
                       "ShaderNodeTexVoronoi": {"Color": np.array([*FACET_RANDOM, 0.5])},
                       "ShaderNodeTexNoise": {"Fac": fac}}
-        self.fac = fac
+        self.fac, self.feeds = fac, None
+
+    def _feeding(self, socket):
+        """The socket linked into `socket` (one pass over the tree's links: a socket's own
+        `links` searches them all at each call)."""
+        if self.feeds is None:
+            self.feeds = {link.to_socket.as_pointer(): link.from_socket
+                          for link in socket.id_data.links}
+        return self.feeds[socket.as_pointer()]
 
     def input(self, socket):
         if socket.is_linked:
-            return self.output(socket.links[0].from_socket)
+            return self.output(self._feeding(socket))
         value = socket.default_value
         return np.array(value[:3], float) if hasattr(value, "__len__") else float(value)
 
