@@ -5,7 +5,7 @@ Each effect is AUTO, ON or OFF per ocean. AUTO decides each frame from `SceneFac
 camera is against the water, which objects in view stand above, below or across the surface,
 whether a sun shines from above the horizon, and the wind. Every decision carries the reason the
 panel shows. The fields of the effects that are on: foam.py (whitecaps, contact foam) and
-optics.py (absorption, caustics, godrays, the mirror capture).
+optics.py (absorption, caustics, godrays, the mirror capture), spray.py.
 """
 
 from dataclasses import dataclass, field
@@ -15,7 +15,7 @@ import numpy as np
 from .validation import finite, non_negative
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
-           "local_reflections")
+           "local_reflections", "spray")
 MODES = ("AUTO", "ON", "OFF")
 # How far above and below its level AUTO takes the sea to reach (SceneFacts.reach), in standard
 # deviations of its heights: the sea's extremes over a shot's view (about 1e5 waves of a
@@ -24,6 +24,9 @@ REACH_SIGMAS = 5.0
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
+# From this wind AUTO draws spray (spray.py): Beaufort 8's least, where "edges of crests begin
+# to break into spindrift" (WMO).
+SPRAY_ONSET = 17.2  # m/s
 
 
 @dataclass
@@ -130,6 +133,11 @@ def _auto(facts):
         "caustics": caustics,
         "godrays": (sun_up, f"{depth}, {sun_text}") if under else (False, depth),
         "local_reflections": reflections,
+        "spray": (facts.wind_speed >= SPRAY_ONSET,
+                  f"wind {facts.wind_speed:.3g} m/s "
+                  + ("tears spindrift off the crests" if facts.wind_speed >= SPRAY_ONSET else
+                     "tears no spray off the crests")
+                  + f" (from {SPRAY_ONSET:g} m/s, Beaufort 8)"),
     }
 
 

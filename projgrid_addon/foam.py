@@ -219,6 +219,14 @@ def at_thresholds(lod, calibration):
     return foam
 
 
+def crest_calibration(source, time, wind_speed):
+    """(level, thresholds): the band limit the whitecaps' cue is taken at where the grid is
+    finer (`whitecap_level`) and the thresholds calibrated for the active whitecaps' share at
+    `time` (`foam_thresholds`)."""
+    return whitecap_level(source), foam_thresholds(source, time,
+                                                   active_coverage(source, wind_speed))
+
+
 def foam_coverage(wind_speed):
     """The share of the sea whitecaps cover at `wind_speed`, active and residual together."""
     return min(max(whitecap_coverage(wind_speed), FOAM_MIN_COVERAGE), 1.0)
@@ -333,11 +341,9 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     foam = residual = None
     surface = result.surface
     if crests:
-        coverage = active_coverage(source, wind_speed)
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lods = result.lod.reshape(xy.shape[1:])
-        placed = whitecap_level(source)
-        thresholds = foam_thresholds(source, time, coverage)
+        placed, thresholds = crest_calibration(source, time, wind_speed)
         # Some vertex finer: the cue without the shorter waves, sampled again at every other
         # point each way over the whole grid (so a band limit one lower everywhere, the far
         # rows' too, where the grid's own cue would do).

@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import effects, foam, memory, optics, shading
+from . import effects, foam, memory, optics, shading, spray
 from .camera import Camera
 from .height_field import HeightField
 from .projected_grid import build_grid
@@ -122,6 +122,7 @@ class FramePlan:
     light: tuple  # the light on the sea against DAYLIGHT, RGB
     drift: tuple  # the gusts' drift along X, Y and its path: (per frame, offset) each
     foam_look: tuple | None  # the water group's foam inputs (foam.foam_look; None: foam off)
+    spray: tuple | None  # (positions, radii, opacities) of the spray's puffs (spray.spray)
     warning: str | None
     ms: float  # the time planning took
 
@@ -150,6 +151,8 @@ def plan(inputs):
                                            level) if visible else (None, None))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
+    puffs = spray.spray(hf, t, cam.position[:2], cam.forward[:2], level, s.wind_speed,
+                        s.wind_direction, seed=s.seed) if visible and on["spray"] else None
     layer = None
     if hf.layer is not None and inputs.our_material:  # a user's material draws no layer
         origin = np.round(cam.position[:2])
@@ -165,7 +168,7 @@ def plan(inputs):
                                     s.gusts),
         layer=layer, absorption=optics.absorption(s.clarity), light=light,
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
-        foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None,
+        foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None, spray=puffs,
         warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3)
 
 

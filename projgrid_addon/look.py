@@ -95,3 +95,6 @@ def body_volume(absorption, water_colour):
     glow = [max(v * float(c), 1e-12) for v, c in zip(a, water_colour, strict=True)]
     return ((*(1.0 - v / max(a) for v in a), 1.0), max(a),
             (*(v / max(glow) for v in glow), 1.0), max(glow))
+# The spray's puffs (spray.py): a puff's opacity at launch (it thins as it spreads and ages)
+# and the white its droplets scatter diffusely, the foam's.
+SPRAY_OPACITY = 1.0

@@ -5,7 +5,13 @@ layer, which writes their inputs each frame)."""
 
 import bpy
 
-from ..projgrid_addon.look import GODRAY_DENSITY, WATER_COLOUR, body_volume
+from ..projgrid_addon.look import (
+    FOAM_COLOUR,
+    GODRAY_DENSITY,
+    SPRAY_OPACITY,
+    WATER_COLOUR,
+    body_volume,
+)
 from .nodes import TAG, Graph, empty_tree, socket
 from .water import (
     BODY_MATERIAL,
@@ -15,6 +21,9 @@ from .water import (
     LAYER_BANDS,
     MATERIAL,
     SHADOW_MATERIAL,
+    SPRAY_ATTRIBUTES,
+    SPRAY_MATERIAL,
+    SPRAY_POINTS,
     VERSION,
     node_group,
 )
@@ -53,6 +62,46 @@ def shadow_material(caustic_mean):
     out = g.node("ShaderNodeOutputMaterial")
     g.set(out.inputs["Surface"], shadow.outputs[0])
     return mat
+
+
+def spray_material():
+    """The spray's puffs: the foam's diffuse white, as opaque as each puff's opacity attribute
+    times SPRAY_OPACITY (the rest passes), casting no shadow."""
+    mat, g = _versioned_material(SPRAY_MATERIAL)
+    if g is None:
+        return mat
+    opacity = g.node("ShaderNodeAttribute", attribute_name=SPRAY_ATTRIBUTES[1]).outputs["Fac"]
+    white = g.node("ShaderNodeBsdfDiffuse", {"Color": (*FOAM_COLOUR, 1.0)})
+    clear = g.node("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)})
+    puff = g.node("ShaderNodeMixShader", {
+        0: g.math("MULTIPLY", opacity, SPRAY_OPACITY, clamp=True), 1: clear.outputs[0],
+        2: white.outputs[0]})
+    g.set(g.node("ShaderNodeOutputMaterial").inputs["Surface"], puff.outputs[0])
+    return mat
+
+
+def spray_points():
+    """Our geometry nodes drawing a mesh's vertices as the spray's puffs: points of the radius
+    attribute, in the spray material (rebuilt if of another VERSION)."""
+    tree = bpy.data.node_groups.get((SPRAY_POINTS, None))
+    if tree is not None and tree.get(TAG) == VERSION:
+        return tree
+    if tree is None or not tree.get(TAG):
+        tree = bpy.data.node_groups.new(SPRAY_POINTS, "GeometryNodeTree")
+    tree[TAG] = VERSION
+    tree.nodes.clear()
+    tree.interface.clear()
+    for side in ("INPUT", "OUTPUT"):
+        tree.interface.new_socket("Geometry", in_out=side, socket_type="NodeSocketGeometry")
+    g = Graph(tree)
+    radius = g.node("GeometryNodeInputNamedAttribute", {"Name": SPRAY_ATTRIBUTES[0]},
+                    data_type="FLOAT")
+    points = g.node("GeometryNodeMeshToPoints", {
+        "Mesh": g.node("NodeGroupInput").outputs[0], "Radius": radius.outputs["Attribute"]})
+    drawn = g.node("GeometryNodeSetMaterial", {"Geometry": points.outputs[0],
+                                               "Material": spray_material()})
+    g.set(g.node("NodeGroupOutput").inputs[0], drawn.outputs[0])
+    return tree
 
 
 def body_material(absorption, tile_texels):

@@ -94,11 +94,15 @@ def remove_stale_stand_ins(scene, apps, everywhere=False):
 
 def _new_companion(obj, prop, name):
     """The data of a new companion: a closed unit box, the surface's own mesh (the caster draws
-    it again with our shadow material, linked to the object), or a sphere light probe with a
-    box influence and a parallax volume set per frame (optics.mirror_capture)."""
+    it again with our shadow material, linked to the object), a sphere light probe with a
+    box influence and a parallax volume set per frame (optics.mirror_capture), or the spray's
+    mesh of puffs (drawn as points by our geometry nodes)."""
     if prop == "shadow_caster":
         return obj.data
-    if prop == "water_body":
+    if prop == "spray_cloud":  # its vertices are the puffs, written each frame
+        data = bpy.data.meshes.new(name)
+        data.materials.append(shader_materials.spray_material())
+    elif prop == "water_body":
         data = bpy.data.meshes.new(name)
         data.from_pydata([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], [],
                          [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4),
@@ -138,8 +142,11 @@ def ensure_companions(obj):
         companion.hide_render = companion.hide_viewport = True
         companion.hide_select = True
         companion.hide_probe_sphere = True  # never in our reflection's capture
-        if prop == "water_body":
+        if prop in ("water_body", "spray_cloud"):
             companion.visible_shadow = False
+        if prop == "spray_cloud":
+            companion.modifiers.new(water.SPRAY_POINTS, "NODES").node_group = (
+                shader_materials.spray_points())
         if prop == "shadow_caster":
             companion.parent = obj
             for slot in companion.material_slots:
@@ -189,6 +196,8 @@ def hide_companions(obj):
     for companion in companions_of(obj):
         if local(companion):
             assign(companion, hide_render=True, hide_viewport=True)
+            if companion == obj.projgrid.spray_cloud and owns(companion.data):
+                empty(companion.data)
 
 
 def _link_like(obj, model):
@@ -235,6 +244,32 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
             # reflection vector looks the capture up as if at infinity.
             assign(companion.data, clip_start=clip, clip_end=2.0 * reach,
                    parallax_distance=reach / half[2])
+
+
+def write_spray(obj, puffs, level):
+    """The spray companion's mesh: a vertex per puff (spray.spray: positions, radii,
+    opacities; None: none) with its radius and opacity, the object under the puffs' mean at the
+    sea's `level` (so float32 offsets stay small)."""
+    cloud = obj.projgrid.spray_cloud
+    if cloud is None or not owns(cloud) or not owns(cloud.data):
+        return
+    data = cloud.data
+    if puffs is None or len(puffs[0]) == 0:
+        empty(data)
+        return
+    positions, radii, opacities = puffs
+    centre = np.round(positions[:, :2].mean(axis=0).astype(np.float64))
+    assign(cloud, location=(float(centre[0]), float(centre[1]), level),
+           rotation_euler=(0.0, 0.0, 0.0), scale=(1.0, 1.0, 1.0))
+    local = positions - np.array([centre[0], centre[1], level], np.float32)
+    if len(data.vertices) != len(local):
+        data.clear_geometry()
+        data.vertices.add(len(local))
+    data.attributes["position"].data.foreach_set("vector", local.ravel())
+    for name, values in zip(water.SPRAY_ATTRIBUTES, (radii, opacities), strict=True):
+        layer = data.attributes.get(name) or data.attributes.new(name, "FLOAT", "POINT")
+        layer.data.foreach_set("value", values)
+    data.update()
 
 
 # ---- The render mesh ---------------------------------------------------------------------------
@@ -328,7 +363,8 @@ def own_material(surface):
 
 
 def empty_for_save(obj):
-    """Our surface's meshes emptied and its companions hidden, as a file is saved."""
+    """Our surface's meshes (the spray's too) emptied and its companions hidden, as a file is
+    saved."""
     empty(obj.data)
     if obj.projgrid.render_mesh is not None and owns(obj.projgrid.render_mesh):
         empty(obj.projgrid.render_mesh)
@@ -338,3 +374,5 @@ def empty_for_save(obj):
     for companion in companions_of(obj):
         if local(companion):
             assign(companion, hide_render=True, hide_viewport=True)
+            if companion == obj.projgrid.spray_cloud and owns(companion.data):
+                empty(companion.data)

@@ -24,6 +24,7 @@ COMPANIONS = {  # setting: (name suffix, effects that show it)
     "shadow_caster": (" Shadow", ("underwater", "refraction", "caustics", "godrays")),
     # The ocean is left out of sphere probes' captures while this one is shown.
     "reflection_probe": (" Reflection", ("local_reflections",)),
+    "spray_cloud": (" Spray", ("spray",)),
 }
 COMPANION = "projgrid_companion"  # ID property naming a companion's setting on its surface
 STAND_IN = "projgrid_stand_in"  # ID property of a stand-in: the appearance key it draws

@@ -177,6 +177,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     godrays: _mode("godrays", "Shafts of sunlight seen from under the water")
     local_reflections: _mode("local_reflections", "Reflections of objects above the water "
                              "(sky only without them)")
+    spray: _mode("spray", "Spindrift and spray the wind tears off the breaking crests (from "
+                 "Beaufort 8)")
     water_body: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                 description="Our water body volume (underwater, refraction)")
     shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
@@ -184,6 +186,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     reflection_probe: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                       description="Our sphere probe capturing the mirror image "
                                       "(local reflections)")
+    spray_cloud: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
+                                 description="Our point cloud of the spray's puffs")
     render_mesh: PointerProperty(type=bpy.types.Mesh, options={"HIDDEN"},
                                  description="Our mesh drawn while rendering: its render grid's "
                                  "topology is kept from render to render")

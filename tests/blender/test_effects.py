@@ -87,7 +87,7 @@ def attribute(obj, name):
 
 def companions(ocean):
     p = ocean.projgrid
-    return p.water_body, p.shadow_caster, p.reflection_probe
+    return p.water_body, p.shadow_caster, p.reflection_probe, p.spray_cloud
 
 
 def shown(obj):
@@ -95,7 +95,7 @@ def shown(obj):
 
 
 def test_a_buoy_across_the_surface_calls_for_the_effects_around_it(ocean, bridge):
-    body, caster, probe = companions(ocean)
+    body, caster, probe, _ = companions(ocean)
     assert not any(shown(c) for c in companions(ocean))  # made hidden with the ocean
     assert not ocean.visible_shadow and not ocean.hide_probe_sphere  # never shadows itself
     add_box("Buoy", (0.0, 40.0, 0.0))  # crosses the surface in view, the sun above
@@ -167,7 +167,7 @@ def test_camera_under_the_water_shows_the_water_body_and_godrays(ocean):
     assert lines["underwater"] == "on: camera 3 m below the surface"
     assert lines["godrays"].startswith("on: camera 3 m below the surface, sun ")
     assert lines["refraction"].startswith("off: camera 3 m below")
-    body, caster, probe = companions(ocean)
+    body, caster, probe, _ = companions(ocean)
     assert shown(body) and shown(caster) and not shown(probe)
     assert tuple(body.location)[:2] == pytest.approx(tuple(scene.camera.location)[:2], abs=1e-6)
     assert not body.data.materials[0].node_tree.nodes["Godrays"].mute
@@ -190,7 +190,7 @@ def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
     effects = import_module(f"{MODULE}.projgrid_addon.effects")
     for module, name in (("foam", "contact_foam"), ("optics", "caustic_intensity"),
                          ("optics", "caustic_tile"), ("foam", "foam_thresholds"),
-                         ("optics", "receiving_depth")):
+                         ("optics", "receiving_depth"), ("spray", "spray")):
         module = import_module(f"{MODULE}.projgrid_addon.{module}")
         real = getattr(module, name)
         monkeypatch.setattr(module, name,
@@ -210,7 +210,7 @@ def test_effects_that_are_off_compute_nothing(ocean, bridge, monkeypatch):
 def test_our_companions_are_ours_and_not_scene_objects(ocean, bridge):
     assert all(bridge.scene.owns(c) and bridge.scene.owns(c.data) for c in companions(ocean))
     assert [c.name for c in companions(ocean)] == ["Ocean Water Body", "Ocean Shadow",
-                                                   "Ocean Reflection"]
+                                                   "Ocean Reflection", "Ocean Spray"]
     bpy.data.objects.remove(ocean.projgrid.reflection_probe)  # deleted by the user: made
     ocean.projgrid.seed = 4  # again, hidden, on the next build
     probe = ocean.projgrid.reflection_probe
@@ -242,6 +242,39 @@ def test_a_duplicated_ocean_gets_companions_of_its_own(ocean):
     assert all(c is not None for c in theirs) and not set(mine) & set(theirs)
     assert theirs[1].parent == copy and theirs[1].data == copy.data  # its own caster
     assert mine[1].parent == ocean and mine[1].data == ocean.data
+
+
+def test_a_gale_tears_spray_off_the_crests(ocean, bridge):
+    """From Beaufort 8 AUTO turns spray on: our spray companion shows, a vertex per puff of
+    the frame's spray (spray.spray) with its radius and opacity, drawn as points by our
+    geometry nodes in our spray material; below force 8, or OFF, it is hidden,
+    costing nothing."""
+    cloud = ocean.projgrid.spray_cloud
+    assert not shown(cloud)
+    assert bpy.ops.projgrid.sea_state(beaufort=9) == {"FINISHED"}
+    bpy.context.scene.frame_set(48)
+    assert "SPRAY" in ocean.projgrid.active_effects and shown(cloud)
+    assert effect_lines(ocean)["spray"].startswith("on: wind 22.6 m/s tears spindrift")
+    n = len(cloud.data.vertices)
+    assert n > 100 and not cloud.data.polygons
+    radius = attribute(cloud, "projgrid_spray_radius")
+    opacity = attribute(cloud, "projgrid_spray_opacity")
+    assert radius.min() > 0.05 and 0.0 < opacity.max() <= 1.0
+    world = np.array(cloud.matrix_world)
+    at = np.empty(3 * n, np.float32)
+    cloud.data.vertices.foreach_get("co", at)
+    height = (at.reshape(n, 3) + world[:3, 3])[:, 2]
+    assert -10.0 < np.median(height) < 10.0  # on and above the sea, not somewhere else
+    modifier = cloud.modifiers[0]
+    assert modifier.type == "NODES" and bridge.scene.owns(modifier.node_group)
+    assert any(n.bl_idname == "GeometryNodeMeshToPoints" for n in modifier.node_group.nodes)
+    assert cloud.data.materials[0].name == "Projected Grid Spray"
+    ocean.projgrid.spray = "OFF"
+    assert "SPRAY" not in ocean.projgrid.active_effects and not shown(cloud)
+    ocean.projgrid.spray = "AUTO"
+    assert bpy.ops.projgrid.sea_state(beaufort=7) == {"FINISHED"}
+    assert not shown(cloud)
+    assert effect_lines(ocean)["spray"].startswith("off: wind 15.5 m/s tears no spray")
 
 
 def test_active_effects_is_read_only(ocean):

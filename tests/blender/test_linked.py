@@ -119,7 +119,8 @@ LINK_WORKER = textwrap.dedent("""
     bpy.ops.render.render()
     bpy.app.handlers.render_post.remove(again)
     lib = [o for o in bpy.data.objects if o.library is not None and o.projgrid.is_ocean][0]
-    group = next(g for g in bpy.data.node_groups if g.library is not None)
+    group = next(g for g in bpy.data.node_groups
+                 if g.library is not None and g.name == "Projected Grid Water")
     results = {"library_vertices": len(lib.data.vertices),
                "library_amplitude": lib.projgrid.amplitude,
                "library_group": (group["projgrid_ocean"], len(group.nodes)),

@@ -1,0 +1,262 @@
+"""Spindrift and spray torn off the breaking crests by the wind: from Beaufort 8 ("edges of
+crests begin to break into spindrift"; WMO), more at 9 ("spray may affect visibility") and
+beyond. Particles, each a pure function of the settings and the time, as Jensen and Golias
+(2001, Particle System) make them: a particle leaves the surface with the water's velocity
+where it is spawned and some turbulence, then gravity and the wind move it.
+
+Launches are sums over a past window, never state: launch sites on world lattices (each site
+jittered by a hash of its indices: fixed in the sea, not the camera), launch times on an
+absolute lattice STEP s apart. As the projected grid's detail follows the camera, so does the
+spray's: ring 0's sites lie CELL m apart within REACH of the camera, each further ring's twice
+as far apart out to twice as far, their puffs twice as wide (as much spray over the sea, in
+fewer, larger puffs a pixel still resolves), the rings cross-fading over FADE of an octave of
+distance (`ring_weight`). A site launches at a lattice
+time with the probability of the active whitecap share there then (the frame's whitecaps,
+foam.at_thresholds, from the cue at the site before the choppy displacement) times the wind's
+`spray_rate`, and throws PER_LAUNCH droplets, each over the step after it (the crest carrying
+the site at the sea's peak phase speed meanwhile), so a breaking crest streams spray.
+
+A droplet of relaxation time tau (Stokes drag toward the wind W, spume droplets of 30-300 um:
+tau log-uniform in TAU) and gravity g moves, from x0 with velocity v0, as
+
+    x(a) = x0 + (W + g tau) a + (v0 - W - g tau) tau (1 - e^(-a / tau))
+
+and the air's turbulence spreads it as a random walk (sqrt(2 K a) of a fixed normal draw): the
+small droplets ride the wind as a mist, the large fall back within a second."""
+
+import threading
+import weakref
+from collections import OrderedDict
+
+import numpy as np
+
+from . import foam, noise, spectrum
+from .effects import SPRAY_ONSET
+
+SPRAY_FULL = 24.5  # m/s: Beaufort 9's most ("spray may affect visibility"): every breaker sprays
+CELL = 2.0  # m between launch sites
+BLOCK = 16  # sites a block has each way (the unit launches are kept in)
+STEP = 0.25  # s between launch times
+LIFE = 2.0  # s a droplet is drawn at most (fading over its life)
+REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
+RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
+FADE = 0.25  # of an octave of distance: the rings' cross-fade
+PER_LAUNCH = 24  # droplets a launch throws
+TAU = (0.02, 0.4)  # s: the droplets' relaxation times to the wind, log-uniform
+CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
+RISE = (0.5, 3.0)  # m/s: the droplets' launch speed upward, uniform
+TURBULENCE = 1.0  # m/s: the launch velocity's spread each way (normal)
+DIFFUSIVITY = 0.5  # m^2/s: the air's eddy diffusivity near the crests (K)
+RADIUS = (0.1, 0.25)  # m: a puff's radius at launch (a cloud of droplets), uniform
+PUFF_GROWTH = 0.5  # of the turbulence's spread sqrt(2 K age): how a puff's radius grows
+GRAVITY = np.array([0.0, 0.0, -spectrum.GRAVITY])
+
+
+def spray_rate(wind_speed):
+    """The chance an active whitecap's site launches spray at a lattice time: 0 below
+    SPRAY_ONSET, rising linearly to 1 at SPRAY_FULL (half the breakers at the top of force 8,
+    every one from force 10; the spray thickens beyond as the whitecaps do)."""
+    return float(np.clip((float(wind_speed) - SPRAY_ONSET) / (SPRAY_FULL - SPRAY_ONSET),
+                         0.0, 1.0))
+
+
+def uniforms(key, *ints):
+    """Uniform values in [0, 1) hashed from integer arrays (broadcast) and a salt `key`."""
+    h = np.array([key & 0xFFFFFFFFFFFFFFFF], np.uint64) * noise._MUL[2]
+    for i, v in enumerate(ints):
+        h = noise._mix(h ^ np.asarray(v, np.int64).astype(np.uint64) * noise._MUL[i % 2])
+    return (h >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
+
+
+def ring_weight(distance, ring):
+    """How much of ring `ring`'s spray is drawn at `distance` (m) from the camera along the
+    sea: the rings, an octave of distance each beyond REACH, sum to 1 out to the last's reach,
+    each fading into the next over FADE of an octave."""
+    t = np.log2(np.maximum(distance, 1e-9) / REACH) + 1.0  # ring r spans [r, r + 1)
+
+    def inside(boundary):  # past the boundary between ring boundary - 1 and ring boundary
+        return np.clip((t - boundary) / FADE + 0.5, 0.0, 1.0) if boundary > 0 else 1.0
+    return inside(ring) - inside(ring + 1)
+
+
+def blocks(centre, forward, ring=0):
+    """The blocks of BLOCK x BLOCK launch sites of `ring` (their lattice indices (bx, by))
+    within its reach of `centre` (x, y), not wholly behind the camera (`forward`: its view
+    along the sea, (x, y), or None): fixed in the sea, so a moving camera keeps the rest."""
+    size = BLOCK * CELL * 2.0**ring
+    centre = np.asarray(centre, np.float64)
+    reach = REACH * 2.0 ** (ring + FADE / 2.0)
+    lo = np.floor((centre - reach) / size).astype(np.int64)
+    n = int(np.ceil(2.0 * reach / size)) + 1
+    by, bx = np.meshgrid(lo[1] + np.arange(n), lo[0] + np.arange(n), indexing="ij")
+    corner = np.stack([bx.ravel(), by.ravel()]) * size
+    off = np.clip(centre[:, None], corner, corner + size) - centre[:, None]  # nearest point
+    far = np.hypot(*(np.maximum(abs(corner - centre[:, None]),
+                                abs(corner + size - centre[:, None]))))  # farthest corner
+    keep = np.hypot(*off) < reach
+    if ring > 0:
+        keep &= far > REACH * 2.0 ** (ring - 1 - FADE / 2.0)
+    if forward is not None and np.hypot(*forward) > 0.0:
+        ahead = corner + size * (np.asarray(forward) > 0.0)[:, None]  # the most forward corner
+        keep &= ((ahead[0] - centre[0]) * forward[0] + (ahead[1] - centre[1]) * forward[1]
+                 > -2.0 * CELL)
+    return [(int(x), int(y)) for x, y in zip(bx.ravel()[keep], by.ravel()[keep], strict=True)]
+
+
+def sites(bx, by, ring=0):
+    """(ix, iy, xy): the block's launch sites, their lattice indices and jittered points."""
+    iy, ix = np.meshgrid(by * BLOCK + np.arange(BLOCK), bx * BLOCK + np.arange(BLOCK),
+                         indexing="ij")
+    ix, iy = ix.ravel(), iy.ravel()
+    cell = CELL * 2.0**ring
+    return ix, iy, np.stack([(ix + uniforms(_salt(0, ring, 1), ix, iy)) * cell,
+                             (iy + uniforms(_salt(0, ring, 2), ix, iy)) * cell])
+
+
+def _salt(seed, ring, use):
+    """The hash key of one use of the random values, per seed and ring."""
+    return (seed * 8 + ring) * 32 + use
+
+
+def launch_times(time):
+    """The lattice indices of the launch times whose droplets may still show at `time`."""
+    last = int(np.floor(time / STEP))
+    return range(last - int(np.ceil(LIFE / STEP)), last + 1)
+
+
+def droplets(x0, v0, tau, age, wind, spread):
+    """Where droplets launched from x0 (n, 3) with velocities v0 (n, 3), relaxation times tau
+    (n,), are after `age` (n,) s in the wind (vx, vy): the closed form above, plus the
+    turbulence's walk `spread` (n, 3) normal draws times sqrt(2 K age)."""
+    w = np.array([wind[0], wind[1], 0.0])
+    drift = w + GRAVITY * tau[:, None]
+    relax = (tau * -np.expm1(-age / tau))[:, None]
+    walk = np.sqrt(2.0 * DIFFUSIVITY * age)[:, None] * spread
+    return x0 + drift * age[:, None] + (v0 - drift) * relax + walk
+
+
+class Launches:
+    """Each block's launches at each lattice time, kept per source (KEPT of them): a pure
+    function of the block, the time and the wind, shared by the frames that show them."""
+
+    KEPT = 8192
+
+    def __init__(self):
+        self._kept = weakref.WeakKeyDictionary()
+        self._lock = threading.Lock()
+
+    def get(self, source, keys, make):
+        """The launches of `keys`, those not kept made by `make(missing keys)`."""
+        with self._lock:
+            kept = self._kept.setdefault(source, OrderedDict())
+            hits = {key: kept.get(key) for key in keys}
+        missing = [key for key, hit in hits.items() if hit is None]
+        if missing:
+            hits.update(zip(missing, make(missing), strict=True))
+            with self._lock:
+                for key in missing:
+                    kept[key] = hits[key]
+                while len(kept) > self.KEPT:
+                    kept.popitem(last=False)
+        return [hits[key] for key in keys]
+
+
+LAUNCHES = Launches()
+
+
+def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
+    """For each block (bx, by) of `ring` in `near`, the puffs its sites launch at lattice time
+    k: (born (n,), x0 (n, 3), v0 (n, 3), tau (n,), walk (n, 3), start (n,)), when each is
+    thrown, from where (above the sea's mean level) and how fast, its drag time, its
+    turbulent walk's normal draws and its radius then. A site launches with the chance of
+    its active whitecap share by the calibration of that time (foam.crest_calibration), so a
+    launch never changes with the frame that shows it; it throws PER_LAUNCH puffs over the
+    step after, the crest carrying it on meanwhile."""
+    when = k * STEP
+    ix, iy, xy = (np.concatenate(v, axis=-1) for v in zip(*(sites(*b, ring) for b in near),
+                                                          strict=True))
+    level, thresholds = foam.crest_calibration(source, when, wind_speed)
+    cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32))
+    share = foam.at_thresholds(level, thresholds)(cue)
+    hit = uniforms(_salt(seed, ring, 3), ix, iy, k) < share * spray_rate(wind_speed)
+    block = np.repeat(np.arange(len(near)), BLOCK * BLOCK)[hit]
+    at = np.flatnonzero(hit)
+    dx, dy, h = surface(source, xy[:, at], when) if at.size else (0.0, 0.0, np.zeros(0))
+    water = np.stack([xy[0, at] + dx, xy[1, at] + dy, h], axis=1)
+    # each site's puffs
+    block, water = np.repeat(block, PER_LAUNCH), np.repeat(water, PER_LAUNCH, axis=0)
+    ix, iy = (np.repeat(v[at], PER_LAUNCH) for v in (ix, iy))
+    j = np.tile(np.arange(PER_LAUNCH), at.size)
+    u = [uniforms(_salt(seed, ring, 10 + c), ix, iy, k, j) for c in range(9)]
+    direction = np.array([np.cos(wind_direction), np.sin(wind_direction)])
+    crest = CREST_SPEED * phase_speed(source) * direction
+    delay = u[0] * STEP
+    x0 = water + np.stack([crest[0] * delay, crest[1] * delay, np.zeros_like(delay)], axis=1)
+    turn = np.sqrt(-2.0 * np.log1p(-u[1]))  # Box-Muller: normal draws
+    v0 = np.stack([crest[0] + TURBULENCE * turn * np.cos(2 * np.pi * u[2]),
+                   crest[1] + TURBULENCE * turn * np.sin(2 * np.pi * u[2]),
+                   RISE[0] + (RISE[1] - RISE[0]) * u[4]], axis=1)
+    tau = TAU[0] * (TAU[1] / TAU[0]) ** u[5]
+    walk = np.sqrt(-2.0 * np.log1p(-u[6]))[:, None] * np.stack(
+        [np.cos(2 * np.pi * u[7]), np.sin(2 * np.pi * u[7]), np.abs(np.cos(2 * np.pi * u[8]))],
+        axis=1)
+    start = RADIUS[0] + (RADIUS[1] - RADIUS[0]) * u[3]
+    puffs = (when + delay, x0, v0, tau, walk, start)
+    return [tuple(v[block == b] for v in puffs) for b in range(len(near))]
+
+
+def spray(source, time, centre, forward, level, wind_speed, wind_direction, seed=0):
+    """The puffs drawn at `time`: (positions (n, 3), radii (n,), opacities (n,)) float32, or
+    None where the wind tears none: `source` the height source, `centre` and `forward` the
+    camera's place and view along the sea (x, y), `level` the sea's mean level."""
+    if spray_rate(wind_speed) <= 0.0:
+        return None
+    parts = [p for ring in range(RINGS) for p in [_ring(
+        source, time, centre, forward, level, wind_speed, wind_direction, seed, ring)]
+        if p is not None]
+    if not parts:
+        return None
+    return tuple(np.concatenate(v).astype(np.float32) for v in zip(*parts, strict=True))
+
+
+def _ring(source, time, centre, forward, level, wind_speed, wind_direction, seed, ring):
+    """`spray`'s puffs from one ring's sites (None: none)."""
+    near = blocks(centre, forward, ring)
+    found = []
+    for k in launch_times(time):
+        keys = [(ring, bx, by, k, float(wind_speed), float(wind_direction), seed)
+                for bx, by in near]
+        found += [p for p in LAUNCHES.get(source, keys, lambda missing, k=k: launches(
+            source, [key[1:3] for key in missing], k, wind_speed, wind_direction, seed, ring))
+            if p[0].size]
+    if not found:
+        return None
+    born, x0, v0, tau, walk, start = (np.concatenate(v) for v in zip(*found, strict=True))
+    age = time - born
+    weight = ring_weight(np.hypot(x0[:, 0] - centre[0], x0[:, 1] - centre[1]), ring)
+    live = np.flatnonzero((age >= 0.0) & (age < LIFE) & (weight > 0.0))
+    if not live.size:
+        return None
+    age, weight, tau, start = age[live], weight[live], tau[live], start[live]
+    pos = droplets(x0[live], v0[live], tau, age, wind_speed * np.array(
+        [np.cos(wind_direction), np.sin(wind_direction)]), walk[live])
+    pos[:, 2] += level
+    radius = start + PUFF_GROWTH * np.sqrt(2.0 * DIFFUSIVITY * age)
+    # a puff's droplets spread over its growing disc: its optical depth falls as it grows
+    opacity = (1.0 - age / LIFE) * start / radius * weight
+    return pos, radius * 2.0**ring, opacity
+
+
+def phase_speed(source):
+    """The sea's peak phase speed g / omega_p (m/s): the spectrum's, or the noise's first
+    octave's deep-water speed."""
+    state = getattr(source, "state", None)
+    if state is not None:
+        return spectrum.GRAVITY / spectrum.peak_frequency(state)
+    return float(np.sqrt(spectrum.GRAVITY * source.wavelength(0) / (2.0 * np.pi)))
+
+
+def surface(source, xy, when):
+    """(dx, dy, h) of the surface at sites `xy` (2, m) at `when`: where their water is."""
+    h, d = source.displacement(xy, when)
+    return (0.0, 0.0, h) if d is None else (d[0], d[1], h)

@@ -1,0 +1,135 @@
+"""The spray torn off the crests (spray.py): its droplets' motion against the drag law it
+integrates, its launches against the whitecaps' share, and every frame a pure function of
+the time."""
+
+import math
+
+import numpy as np
+import pytest
+
+from projgrid_addon import effects, foam, spray
+from projgrid_addon.sea_states import sea_state
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
+
+WIND = math.radians(60.0)
+
+
+def _sea(force):
+    p = sea_state(force)
+    return p, SpectralField(SeaState(wind_speed=p.wind_speed, fetch=p.fetch, wind_direction=WIND,
+                                     swell_height=p.swell_height, swell_period=p.swell_period),
+                            choppiness=p.choppiness)
+
+
+def test_a_droplet_follows_stokes_drag_toward_the_wind_and_gravity():
+    """`droplets` is the solution of dv/dt = (W - v) / tau + g (integrated here by small
+    steps), its turbulent walk aside; a droplet ends falling at g tau through air moving
+    with the wind."""
+    rng = np.random.default_rng(3)
+    n = 6
+    x0, v0 = rng.normal(size=(n, 3)) * 3.0, rng.normal(size=(n, 3)) * 4.0
+    tau = np.array([0.02, 0.05, 0.1, 0.2, 0.4, 0.3])
+    wind, age = (18.0, -7.0), 1.3
+    x, v, dt = x0.copy(), v0.copy(), 1e-5
+    w = np.array([wind[0], wind[1], 0.0])
+    for _ in range(int(round(age / dt))):
+        v += ((w - v) / tau[:, None] + spray.GRAVITY) * dt
+        x += v * dt
+    got = spray.droplets(x0, v0, tau, np.full(n, age), wind, np.zeros((n, 3)))
+    assert got == pytest.approx(x, abs=2e-3)
+    late = spray.droplets(x0, v0, tau, np.full(n, 30.0), wind, np.zeros((n, 3))) - \
+        spray.droplets(x0, v0, tau, np.full(n, 29.0), wind, np.zeros((n, 3)))
+    assert late == pytest.approx(w + spray.GRAVITY * tau[:, None], rel=1e-6)
+
+
+def test_no_spray_below_beaufort_8_and_more_with_the_wind():
+    """None below SPRAY_ONSET (force 7: AUTO leaves it off too); from force 8 the puffs grow
+    in number with the wind, and the share of launch sites throwing them grows as the active
+    whitecaps' share times `spray_rate`."""
+    p7, sea7 = _sea(7)
+    assert p7.wind_speed < effects.SPRAY_ONSET and spray.spray_rate(p7.wind_speed) == 0.0
+    assert spray.spray(sea7, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p7.wind_speed, WIND) is None
+    facts = effects.SceneFacts(camera_height=5.0, bound=3.0, wind_speed=p7.wind_speed,
+                               sun_elevation=10.0)
+    assert effects.decide({}, facts)["spray"][0] is False
+    facts.wind_speed = effects.SPRAY_ONSET
+    assert effects.decide({}, facts)["spray"][0] is True
+    counts = []
+    for force in (8, 9, 10):
+        p, sea = _sea(force)
+        puffs = spray.spray(sea, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p.wind_speed, WIND)
+        counts.append(len(puffs[0]))
+        assert puffs[0].dtype == np.float32 and all(len(v) == counts[-1] for v in puffs)
+    assert 0 < counts[0] < counts[1] < counts[2], counts
+
+
+def test_sites_launch_with_the_chance_of_their_active_whitecaps():
+    """Over a gale's launch sites and lattice times, the sites launching are the active
+    whitecaps' share (foam.active_coverage: Monahan's, less what the residual foam holds)
+    times `spray_rate`, within the binomial spread and the calibration's own."""
+    p, sea = _sea(10)
+    near = spray.blocks((0.0, 0.0), None)
+    ks = range(40, 48)
+    hits = sum(int(born.size) for k in ks for born, *_ in spray.launches(
+        sea, near, k, p.wind_speed, WIND)) // spray.PER_LAUNCH
+    sites = len(near) * spray.BLOCK ** 2 * len(ks)
+    want = foam.active_coverage(sea, p.wind_speed) * spray.spray_rate(p.wind_speed)
+    assert hits / sites == pytest.approx(want, rel=0.25), (hits, sites, want)
+
+
+def test_each_frame_is_a_pure_function_of_the_time():
+    """A frame's puffs are the same made alone (nothing kept) and after other frames, in any
+    order, and a camera moved along the sea keeps the puffs of the blocks both views share."""
+    p, sea = _sea(9)
+
+    def frame(t, centre=(0.0, 0.0)):
+        return spray.spray(sea, t, centre, (0.0, 1.0), 0.0, p.wind_speed, WIND)
+    spray.LAUNCHES = spray.Launches()
+    alone = frame(12.5)
+    for t in (14.0, 11.0, 12.5 - 1 / 24, 12.5 + 1 / 24):
+        frame(t)
+    again = frame(12.5)
+    for a, b in zip(alone, again, strict=True):
+        assert np.array_equal(a, b)
+    moved = frame(12.5, (3.0, 40.0))
+    shared = {tuple(v) for v in alone[0].round(4)} & {tuple(v) for v in moved[0].round(4)}
+    assert len(shared) > 0.5 * len(alone[0])
+
+
+def test_puffs_leave_the_crests_and_ride_the_wind():
+    """A gale's puffs start on the water (none below the troughs at launch) and are carried
+    downwind: ring 0's puffs' mean displacement from where they were thrown lies along the
+    wind."""
+    p, sea = _sea(10)
+    t = 10.0
+    pos, radius, opacity = spray.spray(sea, t, (0.0, 0.0), None, 0.0, p.wind_speed, WIND)
+    assert (radius >= spray.RADIUS[0]).all() and (0.0 < opacity).all() and (opacity <= 1.0).all()
+    bound = sea.bounds(t)[0]
+    assert pos[:, 2].min() > -bound - 5.0 and pos[:, 2].max() < bound + 10.0
+    near = spray.blocks((0.0, 0.0), None)
+    sites = np.concatenate([x0 for k in spray.launch_times(t)
+                            for _, x0, *_ in spray.launches(sea, near, k, p.wind_speed, WIND)])
+    sites = sites[spray.ring_weight(np.hypot(sites[:, 0], sites[:, 1]), 0) > 0.0]
+    ring0 = spray._ring(sea, t, (0.0, 0.0), None, 0.0, p.wind_speed, WIND, 0, 0)[0]
+    drift = ring0[:, :2].mean(axis=0) - sites[:, :2].mean(axis=0)
+    along = drift @ np.array([math.cos(WIND), math.sin(WIND)])
+    assert along > 0.9 * np.hypot(*drift) and along > 5.0, drift
+
+
+def test_the_spray_s_detail_follows_the_camera_in_rings():
+    """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^r as wide; the
+    rings' weights sum to 1 from the camera to the last ring's reach and fade out beyond, so
+    no band of distance gets twice the spray or none."""
+    d = np.geomspace(1.0, spray.REACH * 2.0 ** (spray.RINGS + 1), 400)
+    total = sum(spray.ring_weight(d, r) for r in range(spray.RINGS))
+    inside = d < spray.REACH * 2.0 ** (spray.RINGS - 1 - spray.FADE)
+    assert total[inside] == pytest.approx(1.0) and total[-1] == 0.0
+    assert all((spray.ring_weight(d, r) >= 0.0).all() for r in range(spray.RINGS))
+    for ring in (0, 2):
+        ix, iy, xy = spray.sites(3, -2, ring)
+        gaps = np.diff(np.unique(np.floor(xy[0] / (spray.CELL * 2.0**ring))))
+        assert (gaps == 1.0).all() and len(gaps) == spray.BLOCK - 1
+    p, sea = _sea(10)
+    _, radius, _ = spray.spray(sea, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p.wind_speed, WIND)
+    assert radius.max() > 2.0 ** (spray.RINGS - 1) * spray.RADIUS[0]
