@@ -41,13 +41,13 @@ LIFE = 2.0  # s a droplet is drawn at most (fading over its life)
 REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
 RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
 FADE = 0.25  # of an octave of distance: the rings' cross-fade
-PER_LAUNCH = 24  # droplets a launch throws
+PER_LAUNCH = 12  # droplets a launch throws
 TAU = (0.02, 0.4)  # s: the droplets' relaxation times to the wind, log-uniform
 CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
 RISE = (0.5, 3.0)  # m/s: the droplets' launch speed upward, uniform
 TURBULENCE = 1.0  # m/s: the launch velocity's spread each way (normal)
 DIFFUSIVITY = 0.5  # m^2/s: the air's eddy diffusivity near the crests (K)
-RADIUS = (0.1, 0.25)  # m: a puff's radius at launch (a cloud of droplets), uniform
+RADIUS = (0.14, 0.35)  # m: a puff's radius at launch (a cloud of droplets), uniform
 PUFF_GROWTH = 0.5  # of the turbulence's spread sqrt(2 K age): how a puff's radius grows
 GRAVITY = np.array([0.0, 0.0, -spectrum.GRAVITY])
 
