@@ -151,7 +151,7 @@ def plan(inputs):
                                            level) if visible else (None, None))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
-    puffs = spray.spray(hf, t, cam.position[:2], cam.forward[:2], level, s.wind_speed,
+    puffs = spray.spray(hf, t, cam.position[:2], spray.view_wedge(cam), level, s.wind_speed,
                         s.wind_direction, seed=s.seed) if visible and on["spray"] else None
     layer = None
     if hf.layer is not None and inputs.our_material:  # a user's material draws no layer

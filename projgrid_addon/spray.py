@@ -41,6 +41,7 @@ LIFE = 2.0  # s a droplet is drawn at most (fading over its life)
 REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
 RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
 FADE = 0.25  # of an octave of distance: the rings' cross-fade
+MARGIN = 60.0  # m beside the view's wedge whose sites' spray the wind may carry into view
 PER_LAUNCH = 12  # droplets a launch throws
 TAU = (0.02, 0.4)  # s: the droplets' relaxation times to the wind, log-uniform
 CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
@@ -79,10 +80,24 @@ def ring_weight(distance, ring):
     return inside(ring) - inside(ring + 1)
 
 
-def blocks(centre, forward, ring=0):
+def view_wedge(camera):
+    """(ahead, half): the camera's view along the sea (a unit (x, y)) and the half angle its
+    frustum spans about it (the far corners'), or None where it looks so steeply down that
+    the view surrounds its foot (every direction then shows)."""
+    ahead = np.asarray(camera.forward[:2], np.float64)
+    if np.hypot(*ahead) < 0.2:
+        return None
+    ahead = ahead / np.hypot(*ahead)
+    to = camera.corners[4:, :2] - camera.position[:2]
+    angles = np.abs(np.arctan2(to[:, 0] * ahead[1] - to[:, 1] * ahead[0], to @ ahead))
+    half = float(angles.max())
+    return None if half > np.radians(80.0) else (ahead, half)
+
+
+def blocks(centre, wedge, ring=0):
     """The blocks of BLOCK x BLOCK launch sites of `ring` (their lattice indices (bx, by))
-    within its reach of `centre` (x, y), not wholly behind the camera (`forward`: its view
-    along the sea, (x, y), or None): fixed in the sea, so a moving camera keeps the rest."""
+    within its reach of `centre` (x, y) and within MARGIN of the view's `wedge` (view_wedge;
+    None: all around): fixed in the sea, so a moving camera keeps the rest."""
     size = BLOCK * CELL * 2.0**ring
     centre = np.asarray(centre, np.float64)
     reach = REACH * 2.0 ** (ring + FADE / 2.0)
@@ -96,10 +111,13 @@ def blocks(centre, forward, ring=0):
     keep = np.hypot(*off) < reach
     if ring > 0:
         keep &= far > REACH * 2.0 ** (ring - 1 - FADE / 2.0)
-    if forward is not None and np.hypot(*forward) > 0.0:
-        ahead = corner + size * (np.asarray(forward) > 0.0)[:, None]  # the most forward corner
-        keep &= ((ahead[0] - centre[0]) * forward[0] + (ahead[1] - centre[1]) * forward[1]
-                 > -2.0 * CELL)
+    if wedge is not None:
+        (ax, ay), half = wedge
+        c = corner + size / 2.0 - centre[:, None]
+        along, across = c[0] * ax + c[1] * ay, c[0] * ay - c[1] * ax
+        outside = np.arctan2(np.abs(across), along) - half
+        lateral = np.hypot(along, across) * np.sin(np.clip(outside, 0.0, np.pi / 2.0))
+        keep &= lateral < MARGIN + size / np.sqrt(2.0)
     return [(int(x), int(y)) for x, y in zip(bx.ravel()[keep], by.ravel()[keep], strict=True)]
 
 
@@ -205,23 +223,23 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     return [tuple(v[block == b] for v in puffs) for b in range(len(near))]
 
 
-def spray(source, time, centre, forward, level, wind_speed, wind_direction, seed=0):
+def spray(source, time, centre, wedge, level, wind_speed, wind_direction, seed=0):
     """The puffs drawn at `time`: (positions (n, 3), radii (n,), opacities (n,)) float32, or
-    None where the wind tears none: `source` the height source, `centre` and `forward` the
-    camera's place and view along the sea (x, y), `level` the sea's mean level."""
+    None where the wind tears none: `source` the height source, `centre` the camera's place
+    along the sea (x, y), `wedge` its view (view_wedge), `level` the sea's mean level."""
     if spray_rate(wind_speed) <= 0.0:
         return None
     parts = [p for ring in range(RINGS) for p in [_ring(
-        source, time, centre, forward, level, wind_speed, wind_direction, seed, ring)]
+        source, time, centre, wedge, level, wind_speed, wind_direction, seed, ring)]
         if p is not None]
     if not parts:
         return None
     return tuple(np.concatenate(v).astype(np.float32) for v in zip(*parts, strict=True))
 
 
-def _ring(source, time, centre, forward, level, wind_speed, wind_direction, seed, ring):
+def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, ring):
     """`spray`'s puffs from one ring's sites (None: none)."""
-    near = blocks(centre, forward, ring)
+    near = blocks(centre, wedge, ring)
     found = []
     for k in launch_times(time):
         keys = [(ring, bx, by, k, float(wind_speed), float(wind_direction), seed)

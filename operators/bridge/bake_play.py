@@ -63,6 +63,10 @@ def play(obj, path, relative, recording):
     probe = set(recording.companions.get(("", "hide_probe_sphere"), {}).values())
     if probe:  # out of our probe's capture on every frame if on any (the ocean is the user's
         obj.hide_probe_sphere = True in probe  # object: not keyed; its switch warns below)
+    cloud = obj.projgrid.spray_cloud
+    if cloud is not None and scene.owns(cloud) and scene.local(cloud):  # a bake holds no spray
+        cloud.hide_render = cloud.hide_viewport = True
+        mesh.empty(cloud.data)
     for companion in baked_companions(obj):
         _key_companion(companion, obj, recording.companions)
         old = companion.modifiers.get(MODIFIER)

@@ -68,11 +68,16 @@ def test_a_baked_ocean_plays_its_frames_without_the_extension(moving, bridge, tm
 
 def test_back_to_live(moving, bridge, extension, tmp_path):
     """Baked, the ocean plays the cache with the extension on too (nothing rebuilds it), the
-    panel says so and flags a scene that renders more than was baked; Back to Live undoes it
-    all."""
+    panel says so and flags a scene that renders more than was baked, and the spray, which a
+    bake does not hold, is hidden and empty (not frozen at the last live frame's); Back to
+    Live undoes it all."""
     scene, obj = moving
+    obj.projgrid.wind_speed = 22.0  # a strong gale's: spray
+    cloud = obj.projgrid.spray_cloud
+    assert not cloud.hide_render and len(cloud.data.vertices)
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
+    assert cloud.hide_render and cloud.hide_viewport and not len(cloud.data.vertices)
     scene.frame_set(2)
     played = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     assert len(played.vertices) == RENDER_RES[0] * RENDER_RES[1]  # the render grid, baked
@@ -88,6 +93,7 @@ def test_back_to_live(moving, bridge, extension, tmp_path):
     assert not [i for i in bpy.data.images if i.name.startswith("Projected Grid Bake")]
     scene.frame_set(2)
     assert len(obj.data.vertices) == 65 * 129  # rebuilt live again
+    assert not cloud.hide_render and len(cloud.data.vertices)
     assert all(image.name.startswith("Projected Grid Slopes")
                for _, image in extension.shaders.materials.layer_taps(obj.data.materials[0]))
 

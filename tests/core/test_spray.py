@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 
 from projgrid_addon import effects, foam, spray
+from projgrid_addon.camera import Camera, look_at, perspective
 from projgrid_addon.sea_states import sea_state
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
 
 WIND = math.radians(60.0)
+AHEAD = ((0.0, 1.0), math.radians(30.0))  # a view along +Y, 60 degrees wide
 
 
 def _sea(force):
@@ -49,7 +51,7 @@ def test_no_spray_below_beaufort_8_and_more_with_the_wind():
     whitecaps' share times `spray_rate`."""
     p7, sea7 = _sea(7)
     assert p7.wind_speed < effects.SPRAY_ONSET and spray.spray_rate(p7.wind_speed) == 0.0
-    assert spray.spray(sea7, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p7.wind_speed, WIND) is None
+    assert spray.spray(sea7, 10.0, (0.0, 0.0), AHEAD, 0.0, p7.wind_speed, WIND) is None
     facts = effects.SceneFacts(camera_height=5.0, bound=3.0, wind_speed=p7.wind_speed,
                                sun_elevation=10.0)
     assert effects.decide({}, facts)["spray"][0] is False
@@ -58,7 +60,7 @@ def test_no_spray_below_beaufort_8_and_more_with_the_wind():
     counts = []
     for force in (8, 9, 10):
         p, sea = _sea(force)
-        puffs = spray.spray(sea, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p.wind_speed, WIND)
+        puffs = spray.spray(sea, 10.0, (0.0, 0.0), AHEAD, 0.0, p.wind_speed, WIND)
         counts.append(len(puffs[0]))
         assert puffs[0].dtype == np.float32 and all(len(v) == counts[-1] for v in puffs)
     assert 0 < counts[0] < counts[1] < counts[2], counts
@@ -84,7 +86,7 @@ def test_each_frame_is_a_pure_function_of_the_time():
     p, sea = _sea(9)
 
     def frame(t, centre=(0.0, 0.0)):
-        return spray.spray(sea, t, centre, (0.0, 1.0), 0.0, p.wind_speed, WIND)
+        return spray.spray(sea, t, centre, AHEAD, 0.0, p.wind_speed, WIND)
     spray.LAUNCHES = spray.Launches()
     alone = frame(12.5)
     for t in (14.0, 11.0, 12.5 - 1 / 24, 12.5 + 1 / 24):
@@ -131,5 +133,32 @@ def test_the_spray_s_detail_follows_the_camera_in_rings():
         gaps = np.diff(np.unique(np.floor(xy[0] / (spray.CELL * 2.0**ring))))
         assert (gaps == 1.0).all() and len(gaps) == spray.BLOCK - 1
     p, sea = _sea(10)
-    _, radius, _ = spray.spray(sea, 10.0, (0.0, 0.0), (0.0, 1.0), 0.0, p.wind_speed, WIND)
+    _, radius, _ = spray.spray(sea, 10.0, (0.0, 0.0), AHEAD, 0.0, p.wind_speed, WIND)
     assert radius.max() > 2.0 ** (spray.RINGS - 1) * spray.RADIUS[0]
+
+
+def test_only_the_sites_whose_spray_can_reach_the_view_launch():
+    """A camera looking along +Y, 4 degrees down (a 56 degree wide view): its wedge is +Y and
+    half its width; the blocks kept are those within MARGIN of it (every block whose centre is
+    in view, none beside or behind beyond it), and a camera looking straight down keeps all."""
+    eye = np.array([0.0, 0.0, 5.0])
+    forward = np.array([0.0, math.cos(math.radians(-4.0)), math.sin(math.radians(-4.0))])
+    cam = Camera(*(look_at(eye, eye + forward), perspective(np.radians(32.0), 16 / 9, 0.1, 2e4)))
+    ahead, half = spray.view_wedge(cam)
+    assert ahead == pytest.approx([0.0, 1.0]) and 0.4 < half < 0.6
+    for ring in range(spray.RINGS):
+        every, kept = spray.blocks((0.0, 0.0), None, ring), spray.blocks((0.0, 0.0), (ahead, half),
+                                                                       ring)
+        assert set(kept) < set(every)
+        size = spray.BLOCK * spray.CELL * 2.0**ring
+        for bx, by in every:
+            c = (np.array([bx, by]) + 0.5) * size
+            angle = abs(math.atan2(c[0], c[1]))
+            side = np.hypot(*c) * math.sin(min(max(angle - half, 0.0), math.pi / 2))
+            if angle < half:
+                assert (bx, by) in kept
+            if side > spray.MARGIN + size:
+                assert (bx, by) not in kept
+    down = Camera(*(look_at(eye, eye - np.array([0.0, 0.0, 1.0]), up=(0.0, 1.0, 0.0)),
+                    perspective(np.radians(40.0), 16 / 9, 0.1, 2e4)))
+    assert spray.view_wedge(down) is None
