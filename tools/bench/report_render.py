@@ -367,7 +367,8 @@ def _storm(report):
         "earlier frame made: its sea, foam calibrations and residual past made in it), EEVEE "
         "960×540, 16 samples, after a render compiled the shaders; this tree's alternately "
         "with and without its residual foam (stage B: the per-vertex residual not made, the "
-        "water group's residual and streak noises left out). "
+        "water group's residual and streak noises left out), and without its spray (spray.py; "
+        "per frame too). "
         "`tools/bench/storm_bench.py`.", "",
         _table(rows, [("variant", "variant", ""), ("tree", "tree", ""), ("ms", "ms", ".1f"),
                       ("p10 ms", "p10", ".1f"), ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",

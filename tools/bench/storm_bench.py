@@ -8,7 +8,7 @@ the foam's calibrations made in the frame (no worker beside it). Rendered: a fra
 alone as a farm renders it (a time no earlier frame has made: its sea, calibrations and
 residual foam's past made in it), the EEVEE render of the default shot at 960×540, 16
 samples, after one render compiles the shaders; in this tree alternately with and without
-its residual foam (stage B).
+its residual foam (stage B), and without its spray (per frame too).
 
 Alone: python -m tools.bench.storm_bench (the probe: python tools/bench/storm_bench.py --root R)."""
 
@@ -23,11 +23,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 BASELINE = "51516fb"
 ROUNDS = 2
 NO_B = ", no stage B"  # the variant without the residual foam
+NO_SPRAY = ", no spray"  # and this tree's without its spray
 
 
 def storm_cost(quick=False):
     """Rows (variant, tree, ms, p10 ms, CPU ms) and the ratios: this tree / BASELINE, and
-    this tree's render with its residual foam / without."""
+    this tree's with its residual foam / without, and with its spray / without."""
     base = tempfile.mkdtemp(prefix="projgrid-baseline-")
     subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", base, BASELINE],
                    check=True, capture_output=True)
@@ -62,8 +63,9 @@ def storm_cost(quick=False):
                 "ratio_p10": top["p10"] / bottom["p10"]}
     ratios = [ratio("this tree / baseline", kept[v, "this"], kept[v, "baseline"])
               for v, tree in kept if tree == "baseline" and (v, "this") in kept]
-    ratios += [ratio("with stage B / without", kept[v[:-len(NO_B)], "this"], kept[v, "this"])
-               for v, tree in kept if v.endswith(NO_B)]
+    ratios += [ratio(f"with {what} / without", kept[v[:-len(cut)], "this"], kept[v, "this"])
+               for what, cut in (("stage B", NO_B), ("spray", NO_SPRAY))
+               for v, tree in kept if v.endswith(cut)]
     return {"baseline": BASELINE, "rows": rows, "ratios": ratios}
 
 
@@ -141,12 +143,17 @@ def probe(root, quick):
     # second core from the frame): a frame starting a second makes them, in both trees.
     ahead = importlib.import_module(MODULE + ".operators.bridge.ahead")
     calibrate, ahead.calibrate = ahead.calibrate, (lambda *a, **k: 0)
+    settings = bpy.types.Object.bl_rna.properties["projgrid"].fixed_type.properties
+    sprays = (True, False) if "spray" in settings else (True,)
     for moving in (False, True):
-        scene = gale(257, moving)
-        ahead.finish()
-        name = f"frame 257², camera {'moving' if moving else 'still'}"
-        out[name] = [_timed(lambda f=f, s=scene: s.frame_set(f))
-                     for f in range(scene.frame_current + 1, scene.frame_current + 1 + frames)]
+        for spray in sprays:  # this tree's without its spray too: what the spray costs
+            scene = gale(257, moving)
+            bpy.data.objects["Ocean"].projgrid.spray = "AUTO" if spray else "OFF"
+            ahead.finish()
+            name = f"frame 257², camera {'moving' if moving else 'still'}" + (
+                "" if spray else NO_SPRAY)
+            out[name] = [_timed(lambda f=f, s=scene: s.frame_set(f)) for f in range(
+                scene.frame_current + 1, scene.frame_current + 1 + frames)]
     ahead.calibrate = calibrate
     scene = gale(first=48)
     stage_b = _stage_b_switch(bpy)
@@ -160,11 +167,23 @@ def probe(root, quick):
             stage_b(on)
         scene.frame_current = frame
         bpy.ops.render.render()
-    # this tree's with and without its residual foam alternated, each frame a time of its own
+    ocean = bpy.data.objects["Ocean"]
+
+    def without_spray(frame):
+        ocean.projgrid.spray = "OFF"
+        try:
+            alone(frame, True)
+        finally:
+            ocean.projgrid.spray = "AUTO"
+    # this tree's with and without its residual foam and its spray alternated, each frame a
+    # time of its own
     for frame in range(1000, 1000 + (1 if quick else 3) * 500, 500):
         for on in (True, False) if stage_b is not None else (True,):
             out.setdefault("frame rendered alone, 960×540" + ("" if on else NO_B), []).append(
                 _timed(lambda f=frame + (0 if on else 250), o=on: alone(f, o)))
+        if len(sprays) > 1:
+            out.setdefault("frame rendered alone, 960×540" + NO_SPRAY, []).append(
+                _timed(lambda f=frame + 125: without_spray(f)))
     print(json.dumps(out))
 
 
