@@ -36,13 +36,13 @@ from .effects import SPRAY_ONSET
 SPRAY_FULL = 24.5  # m/s: Beaufort 9's most ("spray may affect visibility"): every breaker sprays
 CELL = 2.0  # m between launch sites
 BLOCK = 16  # sites a block has each way (the unit launches are kept in)
-STEP = 0.25  # s between launch times
+STEP = 0.5  # s between launch times
 LIFE = 2.0  # s a droplet is drawn at most (fading over its life)
 REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
 RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
 FADE = 0.25  # of an octave of distance: the rings' cross-fade
 MARGIN = 60.0  # m beside the view's wedge whose sites' spray the wind may carry into view
-PER_LAUNCH = 12  # droplets a launch throws
+PER_LAUNCH = 24  # droplets a launch throws
 TAU = (0.02, 0.4)  # s: the droplets' relaxation times to the wind, log-uniform
 CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
 RISE = (0.5, 3.0)  # m/s: the droplets' launch speed upward, uniform
