@@ -262,7 +262,10 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     radius = start + PUFF_GROWTH * np.sqrt(2.0 * DIFFUSIVITY * age)
     # a puff's droplets spread over its growing disc: its optical depth falls as it grows
     opacity = (1.0 - age / LIFE) * start / radius * weight
-    return pos, radius * 2.0**ring, opacity
+    # Sparse spray seen far off would be lone domes of puffs standing on the sea (a far site's
+    # launch is 4^ring near ones'): each ring fades by the wind's rate once more, so only a
+    # dense spray (rate 1, from force 10) hazes the distance.
+    return pos, radius * 2.0**ring, opacity * spray_rate(wind_speed) ** ring
 
 
 def phase_speed(source):
