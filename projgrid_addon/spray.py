@@ -8,9 +8,10 @@ Launches are sums over a past window, never state: launch sites on world lattice
 jittered by a hash of its indices: fixed in the sea, not the camera), launch times on an
 absolute lattice STEP s apart. As the projected grid's detail follows the camera, so does the
 spray's: ring 0's sites lie CELL m apart within REACH of the camera, each further ring's twice
-as far apart out to twice as far, their puffs twice as wide (as much spray over the sea, in
-fewer, larger puffs a pixel still resolves), the rings cross-fading over FADE of an octave of
-distance (`ring_weight`). A site launches at a lattice
+as far apart out to twice as far, their puffs sqrt(2) times as wide (fewer, larger puffs a
+pixel still resolves), the rings cross-fading over FADE of an octave of distance
+(`ring_weight`). A launch throws its puffs from along the crest through its site's cell (a
+veil across the wind, not a dome over one point). A site launches at a lattice
 time with the probability of the active whitecap share there then (the frame's whitecaps,
 foam.at_thresholds, from the cue at the site before the choppy displacement) times the wind's
 `spray_rate`, and throws PER_LAUNCH droplets, each over the step after it (the crest carrying
@@ -205,11 +206,16 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     block, water = np.repeat(block, PER_LAUNCH), np.repeat(water, PER_LAUNCH, axis=0)
     ix, iy = (np.repeat(v[at], PER_LAUNCH) for v in (ix, iy))
     j = np.tile(np.arange(PER_LAUNCH), at.size)
-    u = [uniforms(_salt(seed, ring, 10 + c), ix, iy, k, j) for c in range(9)]
+    u = [uniforms(_salt(seed, ring, 10 + c), ix, iy, k, j) for c in range(11)]
     direction = np.array([np.cos(wind_direction), np.sin(wind_direction)])
     crest = CREST_SPEED * phase_speed(source) * direction
     delay = u[0] * STEP
-    x0 = water + np.stack([crest[0] * delay, crest[1] * delay, np.zeros_like(delay)], axis=1)
+    # thrown from along the crest through the site's cell (across the wind), not one point
+    cell = CELL * 2.0**ring
+    across, along = (u[9] - 0.5) * cell, (u[10] - 0.5) * 0.5 * cell + crest @ direction * delay
+    x0 = water + np.stack([along * direction[0] - across * direction[1],
+                           along * direction[1] + across * direction[0],
+                           np.zeros_like(delay)], axis=1)
     turn = np.sqrt(-2.0 * np.log1p(-u[1]))  # Box-Muller: normal draws
     v0 = np.stack([crest[0] + TURBULENCE * turn * np.cos(2 * np.pi * u[2]),
                    crest[1] + TURBULENCE * turn * np.sin(2 * np.pi * u[2]),
@@ -265,7 +271,7 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     # Sparse spray seen far off would be lone domes of puffs standing on the sea (a far site's
     # launch is 4^ring near ones'): each ring fades by the wind's rate once more, so only a
     # dense spray (rate 1, from force 10) hazes the distance.
-    return pos, radius * 2.0**ring, opacity * spray_rate(wind_speed) ** ring
+    return pos, radius * 2.0 ** (ring / 2.0), opacity * spray_rate(wind_speed) ** ring
 
 
 def phase_speed(source):

@@ -120,7 +120,7 @@ def test_puffs_leave_the_crests_and_ride_the_wind():
 
 
 def test_the_spray_s_detail_follows_the_camera_in_rings():
-    """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^r as wide; the
+    """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^(r/2) as wide; the
     rings' weights sum to 1 from the camera to the last ring's reach and fade out beyond, so
     no band of distance gets twice the spray or none."""
     d = np.geomspace(1.0, spray.REACH * 2.0 ** (spray.RINGS + 1), 400)
@@ -133,8 +133,11 @@ def test_the_spray_s_detail_follows_the_camera_in_rings():
         gaps = np.diff(np.unique(np.floor(xy[0] / (spray.CELL * 2.0**ring))))
         assert (gaps == 1.0).all() and len(gaps) == spray.BLOCK - 1
     p, sea = _sea(10)
-    _, radius, _ = spray.spray(sea, 10.0, (0.0, 0.0), AHEAD, 0.0, p.wind_speed, WIND)
-    assert radius.max() > 2.0 ** (spray.RINGS - 1) * spray.RADIUS[0]
+    widest = spray.RADIUS[1] + spray.PUFF_GROWTH * math.sqrt(2.0 * spray.DIFFUSIVITY * spray.LIFE)
+    for ring in (0, spray.RINGS - 1):
+        _, radius, _ = spray._ring(sea, 10.0, (0.0, 0.0), AHEAD, 0.0, p.wind_speed, WIND, 0, ring)
+        scale = 2.0 ** (ring / 2.0)
+        assert scale * spray.RADIUS[0] <= radius.min() and radius.max() <= scale * widest
 
 
 def test_only_the_sites_whose_spray_can_reach_the_view_launch():
