@@ -8,8 +8,8 @@ Launches are sums over a past window, never state: launch sites on world lattice
 jittered by a hash of its indices: fixed in the sea, not the camera), launch times on an
 absolute lattice STEP s apart. As the projected grid's detail follows the camera, so does the
 spray's: ring 0's sites lie CELL m apart within REACH of the camera, each further ring's twice
-as far apart out to twice as far, their puffs sqrt(2) times as wide (fewer, larger puffs a
-pixel still resolves), the rings cross-fading over FADE of an octave of distance
+as far apart out to twice as far, their puffs twice as wide (fewer, larger puffs a pixel still
+resolves), the rings cross-fading over FADE of an octave of distance
 (`ring_weight`). A launch throws its puffs from along the crest through its site's cell (a
 veil across the wind, not a dome over one point). A site launches at a lattice
 time with the probability of the active whitecap share there then (the frame's whitecaps,
@@ -271,7 +271,7 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     # Sparse spray seen far off would be lone domes of puffs standing on the sea (a far site's
     # launch is 4^ring near ones'): each ring fades by the wind's rate once more, so only a
     # dense spray (rate 1, from force 10) hazes the distance.
-    return pos, radius * 2.0 ** (ring / 2.0), opacity * spray_rate(wind_speed) ** ring
+    return pos, radius * 2.0**ring, opacity * spray_rate(wind_speed) ** ring
 
 
 def phase_speed(source):

@@ -120,7 +120,7 @@ def test_puffs_leave_the_crests_and_ride_the_wind():
 
 
 def test_the_spray_s_detail_follows_the_camera_in_rings():
-    """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^(r/2) as wide; the
+    """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^r as wide; the
     rings' weights sum to 1 from the camera to the last ring's reach and fade out beyond, so
     no band of distance gets twice the spray or none."""
     d = np.geomspace(1.0, spray.REACH * 2.0 ** (spray.RINGS + 1), 400)
@@ -136,7 +136,7 @@ def test_the_spray_s_detail_follows_the_camera_in_rings():
     widest = spray.RADIUS[1] + spray.PUFF_GROWTH * math.sqrt(2.0 * spray.DIFFUSIVITY * spray.LIFE)
     for ring in (0, spray.RINGS - 1):
         _, radius, _ = spray._ring(sea, 10.0, (0.0, 0.0), AHEAD, 0.0, p.wind_speed, WIND, 0, ring)
-        scale = 2.0 ** (ring / 2.0)
+        scale = 2.0**ring
         assert scale * spray.RADIUS[0] <= radius.min() and radius.max() <= scale * widest
 
 
