@@ -100,6 +100,7 @@ def _auto(facts):
     sun_text = ("no sun lamp" if sun is None else
                 f"sun {sun:.0f}° {'above' if sun > 0 else 'below'} the horizon")
     cover = whitecap_coverage(facts.wind_speed)
+    spray = facts.wind_speed >= SPRAY_ONSET
     reach = f"the waves' reach ±{facts.reach:.2g} m ({REACH_SIGMAS:g} σ of their height)"
     below_text = f"{_names(below)} is below the surface in view"
 
@@ -133,11 +134,9 @@ def _auto(facts):
         "caustics": caustics,
         "godrays": (sun_up, f"{depth}, {sun_text}") if under else (False, depth),
         "local_reflections": reflections,
-        "spray": (facts.wind_speed >= SPRAY_ONSET,
-                  f"wind {facts.wind_speed:.3g} m/s "
-                  + ("tears spindrift off the crests" if facts.wind_speed >= SPRAY_ONSET else
-                     "tears no spray off the crests")
-                  + f" (from {SPRAY_ONSET:g} m/s, Beaufort 8)"),
+        "spray": (spray, f"wind {facts.wind_speed:.3g} m/s tears "
+                  f"{'spindrift' if spray else 'no spray'} off the crests (from "
+                  f"{SPRAY_ONSET:g} m/s, Beaufort 8)"),
     }
 
 

@@ -104,34 +104,33 @@ def cue_at(source, xy, time, lod):
     return cues if isinstance(time, tuple) else cues[0]
 
 
-class PastFoam:
-    """The past samples' foam cue on a grid, kept per source and (grid, time): a still
-    camera's grid is the same from frame to frame, so each sample is made once, not every
-    frame (KEPT of them a source). A cache of pure functions: never changes what is drawn."""
+class Kept:
+    """Values of pure functions of a source and a key, kept per source (the `kept` newest
+    made): a still camera's past cues (PAST), the spray's launches (spray.LAUNCHES). A cache
+    of pure functions: never changes what is drawn."""
 
-    KEPT = 48
-
-    def __init__(self):
+    def __init__(self, kept):
+        self.kept = kept
         self._kept = weakref.WeakKeyDictionary()
         self._lock = threading.Lock()
 
-    def get(self, source, grid, whens, make):
-        """The cues at `whens` on `grid`, those not kept made by `make(missing whens)`."""
+    def get(self, source, keys, make):
+        """The values of `keys`, those not kept made by `make(missing keys)`."""
         with self._lock:
             kept = self._kept.setdefault(source, OrderedDict())
-            hits = {when: kept.get((grid, when)) for when in whens}
-        missing = tuple(when for when, hit in hits.items() if hit is None)
+            hits = {key: kept.get(key) for key in keys}
+        missing = [key for key, hit in hits.items() if hit is None]
         if missing:
             hits.update(zip(missing, make(missing), strict=True))
             with self._lock:
-                for when in missing:
-                    kept[grid, when] = hits[when]
-                while len(kept) > self.KEPT:
+                for key in missing:
+                    kept[key] = hits[key]
+                while len(kept) > self.kept:
                     kept.popitem(last=False)
-        return [hits[when] for when in whens]
+        return [hits[key] for key in keys]
 
 
-PAST = PastFoam()
+PAST = Kept(48)  # past cues on a grid, by (grid, time)
 
 
 def on_coarse(make, xy, lod, steps, top=None):
@@ -176,8 +175,8 @@ def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None
         foam_of = active(at)
         out = np.zeros(points.shape[1:], np.float32)
         past = samples(time, tau)
-        cues = PAST.get(source, key, [when for when, _ in past],
-                        lambda whens: cue_at(source, points, whens, at))
+        cues = PAST.get(source, [(key, when) for when, _ in past],
+                        lambda missing: cue_at(source, points, tuple(w for _, w in missing), at))
         for cue, (_, weight) in zip(cues, past, strict=True):
             out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
         return out

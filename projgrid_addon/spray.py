@@ -25,13 +25,9 @@ tau log-uniform in TAU) and gravity g moves, from x0 with velocity v0, as
 and the air's turbulence spreads it as a random walk (sqrt(2 K a) of a fixed normal draw): the
 small droplets ride the wind as a mist, the large fall back within a second."""
 
-import threading
-import weakref
-from collections import OrderedDict
-
 import numpy as np
 
-from . import foam, noise, spectrum
+from . import foam, noise, residual_foam, spectrum
 from .effects import SPRAY_ONSET
 
 SPRAY_FULL = 24.5  # m/s: Beaufort 9's most ("spray may affect visibility"): every breaker sprays
@@ -154,33 +150,7 @@ def droplets(x0, v0, tau, age, wind, spread):
     return x0 + drift * age[:, None] + (v0 - drift) * relax + walk
 
 
-class Launches:
-    """Each block's launches at each lattice time, kept per source (KEPT of them): a pure
-    function of the block, the time and the wind, shared by the frames that show them."""
-
-    KEPT = 8192
-
-    def __init__(self):
-        self._kept = weakref.WeakKeyDictionary()
-        self._lock = threading.Lock()
-
-    def get(self, source, keys, make):
-        """The launches of `keys`, those not kept made by `make(missing keys)`."""
-        with self._lock:
-            kept = self._kept.setdefault(source, OrderedDict())
-            hits = {key: kept.get(key) for key in keys}
-        missing = [key for key, hit in hits.items() if hit is None]
-        if missing:
-            hits.update(zip(missing, make(missing), strict=True))
-            with self._lock:
-                for key in missing:
-                    kept[key] = hits[key]
-                while len(kept) > self.KEPT:
-                    kept.popitem(last=False)
-        return [hits[key] for key in keys]
-
-
-LAUNCHES = Launches()
+LAUNCHES = residual_foam.Kept(8192)  # each block's launches, by (ring, block, time, wind)
 
 
 def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):

@@ -19,7 +19,7 @@ from ...shaders import materials as shader_materials
 from ...shaders import water
 from ...shaders.nodes import TAG, assign
 from . import baked, material_inputs
-from .mesh import empty
+from .mesh import empty, write_attribute
 from .scene import COMPANION, COMPANIONS, STAND_IN, hidden_in, local, owns
 from .state import RUNTIME
 
@@ -192,7 +192,8 @@ def follow_visibility(surface, app, seen, render, view_layer, relink):
 
 
 def hide_companions(obj):
-    """The companions of an ocean whose sea its stand-ins draw: hidden, not left as they were."""
+    """The companions of an ocean whose sea its stand-ins draw, or of one being saved: hidden,
+    not left as they were (the spray emptied too)."""
     for companion in companions_of(obj):
         if local(companion):
             assign(companion, hide_render=True, hide_viewport=True)
@@ -267,8 +268,7 @@ def write_spray(obj, puffs, level):
         data.vertices.add(len(local))
     data.attributes["position"].data.foreach_set("vector", local.ravel())
     for name, values in zip(water.SPRAY_ATTRIBUTES, (radii, opacities), strict=True):
-        layer = data.attributes.get(name) or data.attributes.new(name, "FLOAT", "POINT")
-        layer.data.foreach_set("value", values)
+        write_attribute(data, name, values)
     data.update()
 
 
@@ -371,8 +371,4 @@ def empty_for_save(obj):
     state = RUNTIME.peek(obj)
     if state is not None:
         state.key = None
-    for companion in companions_of(obj):
-        if local(companion):
-            assign(companion, hide_render=True, hide_viewport=True)
-            if companion == obj.projgrid.spray_cloud and owns(companion.data):
-                empty(companion.data)
+    hide_companions(obj)

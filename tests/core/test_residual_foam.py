@@ -1,5 +1,5 @@
 """The residual foam's machinery on its own: the coarse sampling (`on_coarse`) and the kept past
-cues (`PastFoam`), which must change nothing a frame draws."""
+cues (`PAST`, a `Kept`), which must change nothing a frame draws."""
 
 import numpy as np
 import pytest

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from projgrid_addon import effects, foam, spray
+from projgrid_addon import effects, foam, residual_foam, spray
 from projgrid_addon.camera import Camera, look_at, perspective
 from projgrid_addon.sea_states import sea_state
 from projgrid_addon.spectral_field import SpectralField
@@ -80,14 +80,14 @@ def test_sites_launch_with_the_chance_of_their_active_whitecaps():
     assert hits / sites == pytest.approx(want, rel=0.25), (hits, sites, want)
 
 
-def test_each_frame_is_a_pure_function_of_the_time():
+def test_each_frame_is_a_pure_function_of_the_time(monkeypatch):
     """A frame's puffs are the same made alone (nothing kept) and after other frames, in any
     order, and a camera moved along the sea keeps the puffs of the blocks both views share."""
     p, sea = _sea(9)
 
     def frame(t, centre=(0.0, 0.0)):
         return spray.spray(sea, t, centre, AHEAD, 0.0, p.wind_speed, WIND)
-    spray.LAUNCHES = spray.Launches()
+    monkeypatch.setattr(spray, "LAUNCHES", residual_foam.Kept(spray.LAUNCHES.kept))
     alone = frame(12.5)
     for t in (14.0, 11.0, 12.5 - 1 / 24, 12.5 + 1 / 24):
         frame(t)
