@@ -59,6 +59,7 @@ from ..projgrid_addon.look import (
     GUST_SCALE,
 )
 from ..projgrid_addon.water_model import INPUTS, LAYER_BANDS
+from . import built
 from .glint import glint_facets
 from .nodes import TAG, Graph
 
@@ -88,17 +89,22 @@ LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own
 
 
 def node_group():
-    """Our node group, built if missing or of another version."""
+    """Our node group, built if missing or of another version (a missing one appended from
+    this session's first build: built.py)."""
     group = bpy.data.node_groups.get((GROUP, None))  # a local one: never a library's
     if group is not None and group.get(TAG) == VERSION:
         return group
-    if group is None or group.get(TAG) is None:
-        group = bpy.data.node_groups.new(GROUP, "ShaderNodeTree")  # never take over a user's
+    if group is None or group.get(TAG) is None:  # never take over a user's
+        group = built.appended(GROUP, VERSION, TAG)
+        if group is not None:
+            return group
+        group = bpy.data.node_groups.new(GROUP, "ShaderNodeTree")
     else:
         group.nodes.clear()
         group.interface.clear()
     group[TAG] = VERSION
     _build(group)
+    built.keep(group, GROUP, VERSION)
     return group
 
 

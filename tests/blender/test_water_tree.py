@@ -6,6 +6,7 @@ slope variance where no wave is drawn, Monahan's whitecap share."""
 
 import itertools
 import math
+import os
 
 import bpy
 import numpy as np
@@ -290,3 +291,44 @@ def test_daylight_is_add_ocean_s_sky_and_sun(water, extension):
     assert albedo == pytest.approx([1.0, 0.2 * math.pi / water_module.DAYLIGHT[1], 1.0])
     # Lit, not glowing: nothing in the group emits (a dusk sea would shine in the dark).
     assert not any(n.bl_idname == "ShaderNodeEmission" for n in node.node_tree.nodes)
+
+
+def _described(tree):
+    """Everything a node tree computes with: its interface, each node's settings and unlinked
+    inputs' values, its links."""
+    def value(v):
+        return str(tuple(v) if hasattr(v, "__len__") and not isinstance(v, str) else v)
+
+    def settings(node):
+        return [(p.identifier, value(getattr(node, p.identifier)))
+                for p in node.bl_rna.properties if not p.is_readonly
+                and p.type in {"ENUM", "BOOLEAN", "INT", "FLOAT", "STRING"}]
+    nodes = {n.name: (n.bl_idname, settings(n), [
+        (s.identifier, value(s.default_value)) for s in n.inputs
+        if not s.is_linked and hasattr(s, "default_value")]) for n in tree.nodes}
+    links = sorted((k.from_node.name, k.from_socket.identifier, k.to_node.name,
+                    k.to_socket.identifier) for k in tree.links)
+    face = [(i.name, i.in_out, i.socket_type, value(getattr(i, "default_value", None)))
+            for i in tree.interface.items_tree]
+    return face, nodes, links
+
+
+def test_a_later_file_appends_the_first_build(extension, monkeypatch):
+    """The water group is built once per session (a build is seconds: Blender updates the
+    tree after each node added); a file that lacks it later appends that first build's copy
+    (shaders/built.py): the same interface, nodes, settings, values and links, and no
+    library left behind."""
+    water, built = extension.shaders.water, extension.shaders.built
+    monkeypatch.setattr(built, "_FILES", {})
+    made = water.node_group()
+    try:
+        want = _described(made)
+        assert len(built._FILES) == 1 and len(made.nodes) > 100
+        bpy.data.node_groups.remove(made)
+        copy = water.node_group()
+        assert copy.get(extension.shaders.nodes.TAG) == water.VERSION
+        assert _described(copy) == want
+        assert copy.library is None and len(bpy.data.libraries) == 0
+    finally:
+        for path, _ in built._FILES.values():
+            os.remove(path)
