@@ -14,16 +14,22 @@ resolves), the rings cross-fading over FADE of an octave of distance
 veil across the wind, not a dome over one point). A site launches at a lattice
 time with the probability of the active whitecap share there then (the frame's whitecaps,
 foam.at_thresholds, from the cue at the site before the choppy displacement) times the wind's
-`spray_rate`, and throws PER_LAUNCH droplets, each over the step after it (the crest carrying
-the site at the sea's peak phase speed meanwhile), so a breaking crest streams spray.
+`spray_rate`, and throws PER_LAUNCH puffs (clouds of droplets), each over the step after it
+(the crest carrying the site at the sea's peak phase speed meanwhile), so a breaking crest
+streams spray.
 
-A droplet of relaxation time tau (Stokes drag toward the wind W, spume droplets of 30-300 um:
-tau log-uniform in TAU) and gravity g moves, from x0 with velocity v0, as
+A droplet of relaxation time tau (drag toward the wind W: Stokes' tau = rho_w d^2 / (18 mu_air),
+0.02-1.6 s for spume droplets of 70-700 um, less past Stokes' law: `settling`) and
+gravity g moves, from x0 with velocity v0, as
 
     x(a) = x0 + (W + g tau) a + (v0 - W - g tau) tau (1 - e^(-a / tau))
 
 and the air's turbulence spreads it as a random walk (sqrt(2 K a) of a fixed normal draw): the
-small droplets ride the wind as a mist, the large fall back within a second."""
+small droplets ride the wind as a mist, the large fall back within a second. A puff's droplets
+are of many sizes (tau spanning SIZES): the drag sorts them along the wind, so each puff is
+drawn as SORTED points of its smallest to largest droplets, which leave the crest together
+and draw out into a streamer (spindrift's streaks), the small ahead, the large lagging low
+(in the near rings: further off, a streamer is no longer than a puff is wide)."""
 
 import numpy as np
 
@@ -39,15 +45,22 @@ REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
 RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
 FADE = 0.25  # of an octave of distance: the rings' cross-fade
 MARGIN = 60.0  # m beside the view's wedge whose sites' spray the wind may carry into view
-PER_LAUNCH = 24  # droplets a launch throws
-TAU = (0.02, 0.4)  # s: the droplets' relaxation times to the wind, log-uniform
+PER_LAUNCH = 16  # puffs a launch throws
+TAU = (0.05, 0.5)  # s: a puff's droplets' mean Stokes time (130-400 um), log-uniform
+SORTED = 4  # points a near puff is drawn with: its droplets, sorted by size along the wind
+STREAKED = 2  # rings whose puffs are drawn as streamers (beyond, a streamer is a puff wide)
+SIZES = 10.0  # the ratio of a puff's largest droplets' Stokes time to its smallest's
 CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
 RISE = (0.5, 3.0)  # m/s: the droplets' launch speed upward, uniform
 TURBULENCE = 1.0  # m/s: the launch velocity's spread each way (normal)
 DIFFUSIVITY = 0.5  # m^2/s: the air's eddy diffusivity near the crests (K)
+# of the walk along the sea, the walk upward: the surface layer's vertical eddies are half as
+# strong as those along the wind (sigma_w / sigma_u = 1.25 / 2.4; Panofsky and Dutton 1984)
+VERTICAL = 0.52
 RADIUS = (0.14, 0.35)  # m: a puff's radius at launch (a cloud of droplets), uniform
 PUFF_GROWTH = 0.5  # of the turbulence's spread sqrt(2 K age): how a puff's radius grows
 GRAVITY = np.array([0.0, 0.0, -spectrum.GRAVITY])
+WATER_DENSITY, AIR_DENSITY, AIR_VISCOSITY = 1025.0, 1.22, 1.8e-5  # kg/m^3, kg/m^3, Pa s
 
 
 def spray_rate(wind_speed):
@@ -139,6 +152,20 @@ def launch_times(time):
     return range(last - int(np.ceil(LIFE / STEP)), last + 1)
 
 
+def settling(tau):
+    """The relaxation time a droplet of Stokes time `tau` (s) keeps at its terminal speed:
+    past Stokes' law (Reynolds numbers over 1, droplets over about 100 um) the drag grows by
+    Schiller and Naumann's 1 + 0.15 Re^0.687, so a 400 um droplet falls at 1.6 m/s, not the
+    4.8 m/s g tau would give (iterated on the terminal speed)."""
+    tau = np.asarray(tau, np.float64)
+    diameter = np.sqrt(18.0 * AIR_VISCOSITY * tau / WATER_DENSITY)
+    fall = spectrum.GRAVITY * tau
+    for _ in range(12):  # damped: the plain iteration oscillates about the balance
+        reynolds = fall * diameter * AIR_DENSITY / AIR_VISCOSITY
+        fall = 0.5 * (fall + spectrum.GRAVITY * tau / (1.0 + 0.15 * reynolds**0.687))
+    return fall / spectrum.GRAVITY
+
+
 def droplets(x0, v0, tau, age, wind, spread):
     """Where droplets launched from x0 (n, 3) with velocities v0 (n, 3), relaxation times tau
     (n,), are after `age` (n,) s in the wind (vx, vy): the closed form above, plus the
@@ -192,8 +219,8 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
                    RISE[0] + (RISE[1] - RISE[0]) * u[4]], axis=1)
     tau = TAU[0] * (TAU[1] / TAU[0]) ** u[5]
     walk = np.sqrt(-2.0 * np.log1p(-u[6]))[:, None] * np.stack(
-        [np.cos(2 * np.pi * u[7]), np.sin(2 * np.pi * u[7]), np.abs(np.cos(2 * np.pi * u[8]))],
-        axis=1)
+        [np.cos(2 * np.pi * u[7]), np.sin(2 * np.pi * u[7]),
+         VERTICAL * np.abs(np.cos(2 * np.pi * u[8]))], axis=1)
     start = RADIUS[0] + (RADIUS[1] - RADIUS[0]) * u[3]
     puffs = (when + delay, x0, v0, tau, walk, start)
     return [tuple(v[block == b] for v in puffs) for b in range(len(near))]
@@ -231,13 +258,18 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     live = np.flatnonzero((age >= 0.0) & (age < LIFE) & (weight > 0.0))
     if not live.size:
         return None
-    age, weight, tau, start = age[live], weight[live], tau[live], start[live]
-    pos = droplets(x0[live], v0[live], tau, age, wind_speed * np.array(
-        [np.cos(wind_direction), np.sin(wind_direction)]), walk[live])
+    # each puff's droplets from the smallest to the largest, of its tau's geometric mean
+    n = SORTED if ring < STREAKED else 1
+    sizes = SIZES ** (np.arange(n) / (n - 1) - 0.5) if n > 1 else np.ones(1)
+    age, weight, start = (np.repeat(v[live], n) for v in (age, weight, start))
+    tau = settling((tau[live, None] * sizes).ravel())
+    pos = droplets(np.repeat(x0[live], n, axis=0), np.repeat(v0[live], n, axis=0), tau, age,
+                   wind_speed * np.array([np.cos(wind_direction), np.sin(wind_direction)]),
+                   np.repeat(walk[live], n, axis=0))
     pos[:, 2] += level
-    radius = start + PUFF_GROWTH * np.sqrt(2.0 * DIFFUSIVITY * age)
+    radius = (start + PUFF_GROWTH * np.sqrt(2.0 * DIFFUSIVITY * age)) / np.sqrt(n)
     # a puff's droplets spread over its growing disc: its optical depth falls as it grows
-    opacity = (1.0 - age / LIFE) * start / radius * weight
+    opacity = (1.0 - age / LIFE) * start / (radius * np.sqrt(n)) * weight
     # Sparse spray seen far off would be lone domes of puffs standing on the sea (a far site's
     # launch is 4^ring near ones'): each ring fades by the wind's rate once more, so only a
     # dense spray (rate 1, from force 10) hazes the distance.
