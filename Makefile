@@ -53,8 +53,8 @@ test-5.2: $(VENV)/.blender
 	$(PY) -m pytest -m slow tests/blender
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
-# grid, the tiling check) on 5.2: about five minutes on this 2-core machine, four of them the Blender
-# tests that render nothing.
+# grid, the tiling check) on 5.2: about four minutes on a 2-core machine, under three of them the
+# Blender tests that render nothing.
 test-fast: $(VENV)/.blender
 	$(PY) -m pytest -m "not slow"
 

@@ -48,16 +48,16 @@ MARGIN = 60.0  # m beside the view's wedge whose sites' spray the wind may carry
 PER_LAUNCH = 16  # puffs a launch throws
 TAU = (0.05, 0.5)  # s: a puff's droplets' mean Stokes time (130-400 um), log-uniform
 SORTED = 4  # points a near puff is drawn with: its droplets, sorted by size along the wind
-STREAKED = 2  # rings whose puffs are drawn as streamers (beyond, a streamer is a puff wide)
+STREAKED = 1  # rings whose puffs are drawn as streamers (beyond, a streamer is a puff wide)
 SIZES = 10.0  # the ratio of a puff's largest droplets' Stokes time to its smallest's
 CREST_SPEED = 0.8  # of the peak phase speed: the water's velocity on a breaking crest
-RISE = (0.5, 3.0)  # m/s: the droplets' launch speed upward, uniform
+RISE = (0.2, 1.0)  # m/s: launch speed upward (a crest's orbital velocity is level), uniform
 TURBULENCE = 1.0  # m/s: the launch velocity's spread each way (normal)
 DIFFUSIVITY = 0.5  # m^2/s: the air's eddy diffusivity near the crests (K)
 # of the walk along the sea, the walk upward: the surface layer's vertical eddies are half as
 # strong as those along the wind (sigma_w / sigma_u = 1.25 / 2.4; Panofsky and Dutton 1984)
 VERTICAL = 0.52
-RADIUS = (0.14, 0.35)  # m: a puff's radius at launch (a cloud of droplets), uniform
+RADIUS = (0.17, 0.43)  # m: a puff's radius at launch (a cloud of droplets), uniform
 PUFF_GROWTH = 0.5  # of the turbulence's spread sqrt(2 K age): how a puff's radius grows
 GRAVITY = np.array([0.0, 0.0, -spectrum.GRAVITY])
 WATER_DENSITY, AIR_DENSITY, AIR_VISCOSITY = 1025.0, 1.22, 1.8e-5  # kg/m^3, kg/m^3, Pa s
@@ -270,6 +270,8 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     radius = (start + PUFF_GROWTH * np.sqrt(2.0 * DIFFUSIVITY * age)) / np.sqrt(n)
     # a puff's droplets spread over its growing disc: its optical depth falls as it grows
     opacity = (1.0 - age / LIFE) * start / (radius * np.sqrt(n)) * weight
+    # of the same mass, droplets d across scatter as 1 / d: the small ones are the spray seen
+    opacity *= np.tile(sizes ** -0.25 / sizes[0] ** -0.25, live.size)
     # Sparse spray seen far off would be lone domes of puffs standing on the sea (a far site's
     # launch is 4^ring near ones'): each ring fades by the wind's rate once more, so only a
     # dense spray (rate 1, from force 10) hazes the distance.
