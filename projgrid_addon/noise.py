@@ -45,6 +45,14 @@ def _mix(h):
     return h ^ (h >> np.uint64(31))
 
 
+def uniforms(key, *ints):
+    """Uniform values in [0, 1) hashed from integer arrays (broadcast) and a salt `key`."""
+    h = np.array([key & 0xFFFFFFFFFFFFFFFF], np.uint64) * _MUL[2]
+    for i, v in enumerate(ints):
+        h = _mix(h ^ np.asarray(v, np.int64).astype(np.uint64) * _MUL[i % 2])
+    return (h >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
+
+
 def octave_key(seed, octave):
     """A 64-bit key that decorrelates seeds and octaves."""
     s = np.array([int(seed) & 0xFFFFFFFFFFFFFFFF], dtype=np.uint64)

@@ -71,14 +71,6 @@ def spray_rate(wind_speed):
                          0.0, 1.0))
 
 
-def uniforms(key, *ints):
-    """Uniform values in [0, 1) hashed from integer arrays (broadcast) and a salt `key`."""
-    h = np.array([key & 0xFFFFFFFFFFFFFFFF], np.uint64) * noise._MUL[2]
-    for i, v in enumerate(ints):
-        h = noise._mix(h ^ np.asarray(v, np.int64).astype(np.uint64) * noise._MUL[i % 2])
-    return (h >> np.uint64(11)).astype(np.float64) * (1.0 / 2.0**53)
-
-
 def ring_weight(distance, ring):
     """How much of ring `ring`'s spray is drawn at `distance` (m) from the camera along the
     sea: the rings, an octave of distance each beyond REACH, sum to 1 out to the last's reach,
@@ -137,8 +129,8 @@ def sites(bx, by, ring=0):
                          indexing="ij")
     ix, iy = ix.ravel(), iy.ravel()
     cell = CELL * 2.0**ring
-    return ix, iy, np.stack([(ix + uniforms(_salt(0, ring, 1), ix, iy)) * cell,
-                             (iy + uniforms(_salt(0, ring, 2), ix, iy)) * cell])
+    return ix, iy, np.stack([(ix + noise.uniforms(_salt(0, ring, 1), ix, iy)) * cell,
+                             (iy + noise.uniforms(_salt(0, ring, 2), ix, iy)) * cell])
 
 
 def _salt(seed, ring, use):
@@ -194,7 +186,7 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     level, thresholds = foam.crest_calibration(source, when, wind_speed)
     cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32))
     share = foam.at_thresholds(level, thresholds)(cue)
-    hit = uniforms(_salt(seed, ring, 3), ix, iy, k) < share * spray_rate(wind_speed)
+    hit = noise.uniforms(_salt(seed, ring, 3), ix, iy, k) < share * spray_rate(wind_speed)
     block = np.repeat(np.arange(len(near)), BLOCK * BLOCK)[hit]
     at = np.flatnonzero(hit)
     dx, dy, h = surface(source, xy[:, at], when) if at.size else (0.0, 0.0, np.zeros(0))
@@ -203,7 +195,7 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     block, water = np.repeat(block, PER_LAUNCH), np.repeat(water, PER_LAUNCH, axis=0)
     ix, iy = (np.repeat(v[at], PER_LAUNCH) for v in (ix, iy))
     j = np.tile(np.arange(PER_LAUNCH), at.size)
-    u = [uniforms(_salt(seed, ring, 10 + c), ix, iy, k, j) for c in range(11)]
+    u = [noise.uniforms(_salt(seed, ring, 10 + c), ix, iy, k, j) for c in range(11)]
     direction = np.array([np.cos(wind_direction), np.sin(wind_direction)])
     crest = CREST_SPEED * phase_speed(source) * direction
     delay = u[0] * STEP
