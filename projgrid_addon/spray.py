@@ -219,7 +219,7 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
 
 
 def spray(source, time, centre, wedge, level, wind_speed, wind_direction, seed=0):
-    """The puffs drawn at `time`: (positions (n, 3), radii (n,), opacities (n,)) float32, or
+    """The puffs drawn at `time`: (positions (n, 3) float64, radii (n,), opacities (n,) float32), or
     None where the wind tears none: `source` the height source, `centre` the camera's place
     along the sea (x, y), `wedge` its view (view_wedge), `level` the sea's mean level."""
     if spray_rate(wind_speed) <= 0.0:
@@ -229,7 +229,8 @@ def spray(source, time, centre, wedge, level, wind_speed, wind_direction, seed=0
         if p is not None]
     if not parts:
         return None
-    return tuple(np.concatenate(v).astype(np.float32) for v in zip(*parts, strict=True))
+    positions, radii, opacities = (np.concatenate(v) for v in zip(*parts, strict=True))
+    return positions, radii.astype(np.float32), opacities.astype(np.float32)
 
 
 def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, ring):

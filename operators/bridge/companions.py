@@ -262,7 +262,7 @@ def write_spray(obj, puffs, level):
     centre = np.round(positions[:, :2].mean(axis=0).astype(np.float64))
     assign(cloud, location=(float(centre[0]), float(centre[1]), level),
            rotation_euler=(0.0, 0.0, 0.0), scale=(1.0, 1.0, 1.0))
-    local = positions - np.array([centre[0], centre[1], level], np.float32)
+    local = (positions - np.array([centre[0], centre[1], level])).astype(np.float32)
     if len(data.vertices) != len(local):
         data.clear_geometry()
         data.vertices.add(len(local))
