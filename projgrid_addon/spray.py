@@ -29,7 +29,7 @@ small droplets ride the wind as a mist, the large fall back within a second. A p
 are of many sizes (tau spanning SIZES): the drag sorts them along the wind, so each puff is
 drawn as SORTED points of its smallest to largest droplets, which leave the crest together
 and draw out into a streamer (spindrift's streaks), the small ahead, the large lagging low
-(in the near rings: further off, a streamer is no longer than a puff is wide)."""
+(in the STREAKED nearest rings: further off, a streamer is no longer than a puff is wide)."""
 
 import numpy as np
 
@@ -158,6 +158,13 @@ def settling(tau):
     return fall / spectrum.GRAVITY
 
 
+def droplet_sizes(ring):
+    """The Stokes times of the points a puff of `ring` is drawn with, as factors of its own:
+    SORTED of them from its smallest droplets to its largest in the streaked rings, else one."""
+    n = SORTED if ring < STREAKED else 1
+    return SIZES ** (np.arange(n) / (n - 1) - 0.5) if n > 1 else np.ones(1)
+
+
 def droplets(x0, v0, tau, age, wind, spread):
     """Where droplets launched from x0 (n, 3) with velocities v0 (n, 3), relaxation times tau
     (n,), are after `age` (n,) s in the wind (vx, vy): the closed form above, plus the
@@ -174,12 +181,12 @@ LAUNCHES = residual_foam.Kept(8192)  # each block's launches, by (ring, block, t
 
 def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     """For each block (bx, by) of `ring` in `near`, the puffs its sites launch at lattice time
-    k: (born (n,), x0 (n, 3), v0 (n, 3), tau (n,), walk (n, 3), start (n,)), when each is
-    thrown, from where (above the sea's mean level) and how fast, its drag time, its
-    turbulent walk's normal draws and its radius then. A site launches with the chance of
-    its active whitecap share by the calibration of that time (foam.crest_calibration), so a
-    launch never changes with the frame that shows it; it throws PER_LAUNCH puffs over the
-    step after, the crest carrying it on meanwhile."""
+    k: (born (n,), x0 (n, 3), v0 (n, 3), tau (n, sizes), walk (n, 3), start (n,)), when each is
+    thrown, from where (above the sea's mean level) and how fast, the settled drag times of
+    its droplet_sizes, its turbulent walk's normal draws and its radius then. A site
+    launches with the chance of its active whitecap share by the calibration of that time
+    (foam.crest_calibration), so a launch never changes with the frame that shows it; it
+    throws PER_LAUNCH puffs over the step after, the crest carrying it on meanwhile."""
     when = k * STEP
     ix, iy, xy = (np.concatenate(v, axis=-1) for v in zip(*(sites(*b, ring) for b in near),
                                                           strict=True))
@@ -209,7 +216,8 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     v0 = np.stack([crest[0] + TURBULENCE * turn * np.cos(2 * np.pi * u[2]),
                    crest[1] + TURBULENCE * turn * np.sin(2 * np.pi * u[2]),
                    RISE[0] + (RISE[1] - RISE[0]) * u[4]], axis=1)
-    tau = TAU[0] * (TAU[1] / TAU[0]) ** u[5]
+    # each drawn size's drag time, settled once here rather than every frame that shows it
+    tau = settling(TAU[0] * (TAU[1] / TAU[0]) ** u[5][:, None] * droplet_sizes(ring))
     walk = np.sqrt(-2.0 * np.log1p(-u[6]))[:, None] * np.stack(
         [np.cos(2 * np.pi * u[7]), np.sin(2 * np.pi * u[7]),
          VERTICAL * np.abs(np.cos(2 * np.pi * u[8]))], axis=1)
@@ -252,10 +260,10 @@ def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, 
     if not live.size:
         return None
     # each puff's droplets from the smallest to the largest, of its tau's geometric mean
-    n = SORTED if ring < STREAKED else 1
-    sizes = SIZES ** (np.arange(n) / (n - 1) - 0.5) if n > 1 else np.ones(1)
+    sizes = droplet_sizes(ring)
+    n = len(sizes)
     age, weight, start = (np.repeat(v[live], n) for v in (age, weight, start))
-    tau = settling((tau[live, None] * sizes).ravel())
+    tau = tau[live].ravel()
     pos = droplets(np.repeat(x0[live], n, axis=0), np.repeat(v0[live], n, axis=0), tau, age,
                    wind_speed * np.array([np.cos(wind_direction), np.sin(wind_direction)]),
                    np.repeat(walk[live], n, axis=0))
