@@ -81,8 +81,9 @@ def spray_material():
 
 
 def spray_points():
-    """Our geometry nodes drawing a mesh's vertices as the spray's puffs: points of the radius
-    attribute, in the spray material (rebuilt if of another VERSION)."""
+    """Our geometry nodes drawing the spray's puffs as points of their radius attribute, in the
+    spray material (rebuilt if of another VERSION): a vertex per puff live, or a baked mesh's
+    triangle per puff (its face's centre and attributes) when the mesh has faces."""
     tree = bpy.data.node_groups.get((SPRAY_POINTS, None))
     if tree is not None and tree.get(TAG) == VERSION:
         return tree
@@ -94,11 +95,18 @@ def spray_points():
     for side in ("INPUT", "OUTPUT"):
         tree.interface.new_socket("Geometry", in_out=side, socket_type="NodeSocketGeometry")
     g = Graph(tree)
+    mesh = g.node("NodeGroupInput").outputs[0]
     radius = g.node("GeometryNodeInputNamedAttribute", {"Name": SPRAY_ATTRIBUTES[0]},
                     data_type="FLOAT")
-    points = g.node("GeometryNodeMeshToPoints", {
-        "Mesh": g.node("NodeGroupInput").outputs[0], "Radius": radius.outputs["Attribute"]})
-    drawn = g.node("GeometryNodeSetMaterial", {"Geometry": points.outputs[0],
+    points = [g.node("GeometryNodeMeshToPoints", {"Mesh": mesh,
+                                                  "Radius": radius.outputs["Attribute"]},
+                     mode=mode) for mode in ("VERTICES", "FACES")]
+    faces = g.node("GeometryNodeAttributeDomainSize", {"Geometry": mesh}, component="MESH")
+    either = g.node("GeometryNodeSwitch", {"Switch": faces.outputs["Face Count"],
+                                           "False": points[0].outputs[0],
+                                           "True": points[1].outputs[0]},
+                    input_type="GEOMETRY")
+    drawn = g.node("GeometryNodeSetMaterial", {"Geometry": either.outputs[0],
                                                "Material": spray_material()})
     g.set(g.node("NodeGroupOutput").inputs[0], drawn.outputs[0])
     return tree

@@ -61,7 +61,7 @@ def frame(read, plan, refusal=None):
         kind = "out of memory" if isinstance(e, MemoryError) else str(e)
         return state.refused(f"writing the {res[0]}x{res[1]} grid failed ({kind}): lower the "
                              "grid resolution")
-    _keep(read, arrays)
+    _keep(read, arrays, plan.spray, float(inputs.world[2, 3]))
     state.key, state.message, state.hidden = read.key, None, False
     state.vertices, state.grid = len(result.positions), result.without_surface()
     state.effects = plan.decisions
@@ -80,9 +80,9 @@ def frame(read, plan, refusal=None):
     return None
 
 
-def _keep(read, arrays):
+def _keep(read, arrays, spray=None, level=0.0):
     if read.recording is not None:
-        bake_record.keep(read.scene.frame_current, arrays, read.fingerprint)
+        bake_record.keep(read.scene.frame_current, arrays, read.fingerprint, spray, level)
 
 
 def _write_materials(read, plan, surface, in_use):

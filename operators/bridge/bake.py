@@ -24,6 +24,7 @@ import tempfile
 
 import bpy
 
+from ...shaders import water
 from . import ahead, material_inputs, scene, shot
 from .bake_play import play
 from .bake_record import SCRATCH, Recording, folder_of, kept_path
@@ -158,17 +159,24 @@ class Bake:
         view_layer = self.view_layer
         selected = [o for o in view_layer.objects if o.select_get()]
         active = view_layer.objects.active
-        timer = None
+        exported = [obj] + _spray_cloud(obj, recording)
+        shown = [(o, o.hide_render, o.hide_viewport, o.hide_select) for o in exported]
+        points = [(m, m.show_render, m.show_viewport) for o in exported[1:]
+                  if (m := o.modifiers.get(water.SPRAY_POINTS)) is not None]
         recording.replaying = True
         try:
-            timer = obj.modifiers.new(TIMER, "NODES")
-            timer.node_group = _time_group()
+            for o in exported:  # sampled each frame, and as meshes, where the exporter sees them
+                o.modifiers.new(TIMER, "NODES").node_group = _time_group()
+                o.hide_render = o.hide_viewport = o.hide_select = False
+            for m, _, _ in points:  # the exporter writes the mesh of puffs, not points
+                m.show_render = m.show_viewport = False
             the_scene.frame_start, the_scene.frame_end = recording.first, recording.last
             for o in selected:
                 o.select_set(False)
-            obj.select_set(True)
+            for o in exported:
+                o.select_set(True)
             view_layer.objects.active = obj
-            with self.context.temp_override(selected_objects=[obj], active_object=obj):
+            with self.context.temp_override(selected_objects=exported, active_object=obj):
                 done = bpy.ops.wm.usd_export(
                     filepath=partial, check_existing=False, selected_objects_only=True,
                     export_animation=True, evaluation_mode="RENDER", export_materials=False,
@@ -187,8 +195,14 @@ class Bake:
         except OSError as err:
             raise RuntimeError(f"writing {self.path!r} failed: {err.strerror}") from None
         finally:
-            if timer is not None:
-                obj.modifiers.remove(timer)
+            for o, hide_render, hide_viewport, hide_select in shown:
+                timer = o.modifiers.get(TIMER)
+                if timer is not None:
+                    o.modifiers.remove(timer)
+                o.hide_render, o.hide_viewport = hide_render, hide_viewport
+                o.hide_select = hide_select
+            for m, show_render, show_viewport in points:
+                m.show_render, m.show_viewport = show_render, show_viewport
             the_scene.frame_start, the_scene.frame_end = frame_range
             for o in view_layer.objects:
                 o.select_set(o in selected)
@@ -229,6 +243,14 @@ class Bake:
                 bpy.data.batch_remove([block])
         RUNTIME.state(self.obj).key = None
         self.scene.frame_set(self.frame)
+
+
+def _spray_cloud(obj, recording):
+    """[the spray's companion] if the bake kept puffs for it to write, else []."""
+    cloud = obj.projgrid.spray_cloud
+    if recording.spray and cloud is not None and scene.owns(cloud) and scene.local(cloud):
+        return [cloud]
+    return []
 
 
 def _animated(tree):

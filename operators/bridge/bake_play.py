@@ -9,6 +9,7 @@ import bpy
 
 from ...projgrid_addon import optics
 from ...shaders import materials as shader_materials
+from ...shaders import water
 from . import material_inputs, mesh, scene, shot
 from .baked import (
     FOLLOW,
@@ -44,29 +45,10 @@ def play(obj, path, relative, recording):
         recording.fingerprints.get(f, "") for f in range(recording.first, recording.last + 1))
     RUNTIME.state(obj).key = None
     mesh.empty(obj.data)  # the cache gives the mesh: what is left is empty if it gives none
-    chain = [obj.data.name, obj.name]
-    parent = obj.parent
-    while parent is not None:
-        chain.append(parent.name)
-        parent = parent.parent
-    # The exporter's prim names: USD's valid identifiers, made per character or (older USD)
-    # per byte of a name's UTF-8. (Looked up among the file's paths, not by the mesh the
-    # current frame plays, which may rightly be empty: a camera looking at the sky.)
-    obj.evaluated_get(bpy.context.evaluated_depsgraph_get())  # the cache read: its paths
-    held = {p.path for p in cache.object_paths}
-    for per_byte in (False, True):
-        mod.object_path = "/root/" + "/".join(_prim(n, per_byte) for n in reversed(chain))
-        if mod.object_path in held:
-            break
-    else:
-        raise RuntimeError(f"the cache holds no mesh at {mod.object_path}")
+    mod.object_path = _prim_path(obj, cache)
     probe = set(recording.companions.get(("", "hide_probe_sphere"), {}).values())
     if probe:  # out of our probe's capture on every frame if on any (the ocean is the user's
         obj.hide_probe_sphere = True in probe  # object: not keyed; its switch warns below)
-    cloud = obj.projgrid.spray_cloud
-    if cloud is not None and scene.owns(cloud) and scene.local(cloud):  # a bake holds no spray
-        cloud.hide_render = cloud.hide_viewport = True
-        mesh.empty(cloud.data)
     for companion in baked_companions(obj):
         _key_companion(companion, obj, recording.companions)
         old = companion.modifiers.get(MODIFIER)
@@ -76,6 +58,7 @@ def play(obj, path, relative, recording):
             caster = companion.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
             caster.cache_file, caster.object_path = cache, mod.object_path
             caster.read_data = mod.read_data
+    _play_spray(obj, cache, mod.read_data, recording.spray)
 
     def file(name):  # a file the bake wrote, as the .blend refers to it
         path = os.path.join(recording.slopes, name)
@@ -105,6 +88,45 @@ def play(obj, path, relative, recording):
         return ("effects switch on and off within the frames: the bake draws them on "
                 "throughout (bake the frames apart to keep the switch)")
     return None
+
+
+def _prim_path(obj, cache):
+    """The path of `obj`'s mesh in `cache`: the exporter's prim names (USD's valid identifiers,
+    made per character or, older USD, per byte of a name's UTF-8) of the object's parents, the
+    object and its mesh under its root. (Looked up among the file's paths, not by the mesh the
+    current frame plays, which may rightly be empty: a camera looking at the sky.)"""
+    chain = [obj.data.name, obj.name]
+    parent = obj.parent
+    while parent is not None:
+        chain.append(parent.name)
+        parent = parent.parent
+    obj.evaluated_get(bpy.context.evaluated_depsgraph_get())  # the cache read: its paths
+    held = {p.path for p in cache.object_paths}
+    for per_byte in (False, True):
+        path = "/root/" + "/".join(_prim(n, per_byte) for n in reversed(chain))
+        if path in held:
+            return path
+    raise RuntimeError(f"the cache holds no mesh at {path}")
+
+
+def _play_spray(obj, cache, read_data, baked):
+    """The spray's companion plays the puffs the bake holds (`baked`: a frame kept some) from
+    the cache, before its points are drawn (its geometry nodes take a baked triangle per
+    puff); else it is emptied (no frame handler writes it while the ocean plays a bake)."""
+    cloud = obj.projgrid.spray_cloud
+    if cloud is None or not scene.owns(cloud) or not scene.local(cloud):
+        return
+    mesh.empty(cloud.data)
+    if not baked:
+        cloud.hide_render = cloud.hide_viewport = True
+        return
+    points = cloud.modifiers.get(water.SPRAY_POINTS)
+    if points is not None and scene.owns(points.node_group):
+        points.node_group = shader_materials.spray_points()  # of this version: draws faces
+    played = cloud.modifiers.new(MODIFIER, "MESH_SEQUENCE_CACHE")
+    played.cache_file, played.read_data = cache, read_data
+    cloud.modifiers.move(len(cloud.modifiers) - 1, 0)
+    played.object_path = _prim_path(cloud, cache)
 
 
 def _fill_frames(recording):

@@ -14,6 +14,7 @@ from .baked import baked_companions, body_material, drift_drivers
 from .state import RUNTIME
 
 SCRATCH = "Projected Grid Bake Scratch"
+SPRAY_KEYS = ("spray_positions", "spray_radii", "spray_opacities", "spray_level")
 
 
 # What our companions are given each frame (companions.place_companions): keyed where it changes.
@@ -48,6 +49,7 @@ class Recording:
     error: str | None = None  # what went wrong in the handler (Blender swallows it there)
     frames: str = ""  # a folder of each frame's mesh arrays (`keep`), read by the export
     replaying: bool = False  # the exporter runs: the frames are written from `frames`
+    spray: bool = False  # a frame kept puffs: the spray's companion is exported and played
 
 
 def baking(app):
@@ -58,17 +60,31 @@ def baking(app):
     return recording
 
 
-def keep(frame, arrays, fingerprint):
-    """Keep frame `frame`'s mesh arrays (mesh.grid_arrays; None: empty) for the export, and
-    what it was built for (gather.fingerprint)."""
+def keep(frame, arrays, fingerprint, spray=None, level=0.0):
+    """Keep frame `frame`'s mesh arrays (mesh.grid_arrays; None: empty) and its spray's puffs
+    (spray.spray, None: none; over the sea's `level`) for the export, and what it was built
+    for (gather.fingerprint)."""
     recording = RUNTIME.baking
     if recording.replaying or not recording.first <= frame <= recording.last:
         return
     recording.fingerprints[frame] = fingerprint
+    kept = dict(arrays or {})
+    if spray is not None and len(spray[0]):
+        kept.update(zip(SPRAY_KEYS, (*spray, np.float64(level)), strict=True))
+        recording.spray = True
     try:
-        np.savez(kept_path(recording, frame), **(arrays or {}))
+        np.savez(kept_path(recording, frame), **kept)
     except OSError as err:
         recording.error = f"keeping frame {frame} failed: {err.strerror}"
+
+
+def spray_of(arrays):
+    """The puffs (positions, radii, opacities; or None) and the sea's level `keep` kept among a
+    frame's arrays, taken out of them."""
+    if SPRAY_KEYS[0] not in arrays:
+        return None, 0.0
+    *puffs, level = (arrays.pop(k) for k in SPRAY_KEYS)
+    return tuple(puffs), float(level)
 
 
 def kept(frame):

@@ -51,11 +51,10 @@ def is_copy(obj):
 
 def baked_companions(obj):
     """Our companions of ocean `obj` (companions.py) a bake keys; none for a duplicate
-    (`is_copy`). The spray is not among them: a bake does not hold it (bake_play hides and
-    empties it)."""
+    (`is_copy`)."""
     if is_copy(obj):
         return []
-    out = [getattr(obj.projgrid, prop) for prop in scene.COMPANIONS if prop != "spray_cloud"]
+    out = [getattr(obj.projgrid, prop) for prop in scene.COMPANIONS]
     return [c for c in out if c is not None and scene.owns(c) and scene.local(c)]
 
 

@@ -19,7 +19,7 @@ from ...shaders import materials as shader_materials
 from ...shaders import water
 from ...shaders.nodes import TAG, assign
 from . import baked, material_inputs
-from .mesh import empty, write_attribute
+from .mesh import empty, write_puffs
 from .scene import COMPANION, COMPANIONS, STAND_IN, hidden_in, local, owns
 from .state import RUNTIME
 
@@ -247,29 +247,24 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
                    parallax_distance=reach / half[2])
 
 
-def write_spray(obj, puffs, level):
+def write_spray(obj, puffs, level, faces=False):
     """The spray companion's mesh: a vertex per puff (spray.spray: positions, radii,
-    opacities; None: none) with its radius and opacity, the object under the puffs' mean at the
-    sea's `level` (so float32 offsets stay small)."""
+    opacities; None: none) with its radius and opacity (with `faces`, a bake's triangle per
+    puff: mesh.write_puffs), the object under the puffs' mean at the sea's `level` (so float32
+    offsets stay small)."""
     cloud = obj.projgrid.spray_cloud
     if cloud is None or not owns(cloud) or not owns(cloud.data):
         return
-    data = cloud.data
     if puffs is None or len(puffs[0]) == 0:
-        empty(data)
+        empty(cloud.data)
         return
     positions, radii, opacities = puffs
     centre = np.round(positions[:, :2].mean(axis=0).astype(np.float64))
     assign(cloud, location=(float(centre[0]), float(centre[1]), level),
            rotation_euler=(0.0, 0.0, 0.0), scale=(1.0, 1.0, 1.0))
     local = (positions - np.array([centre[0], centre[1], level])).astype(np.float32)
-    if len(data.vertices) != len(local):
-        data.clear_geometry()
-        data.vertices.add(len(local))
-    data.attributes["position"].data.foreach_set("vector", local.ravel())
-    for name, values in zip(water.SPRAY_ATTRIBUTES, (radii, opacities), strict=True):
-        write_attribute(data, name, values)
-    data.update()
+    write_puffs(cloud.data, local, dict(zip(water.SPRAY_ATTRIBUTES, (radii, opacities),
+                                            strict=True)), faces)
 
 
 # ---- The render mesh ---------------------------------------------------------------------------

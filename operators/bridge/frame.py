@@ -61,7 +61,9 @@ def playback(app, the_scene, depsgraph, frame_change):
     arrays = bake_record.kept(the_scene.frame_current)
     try:
         if arrays is not None:
+            puffs, level = bake_record.spray_of(arrays)
             mesh.write_arrays(app.ocean.data, arrays or None)
+            companions.write_spray(app.ocean, puffs, level, faces=True)
     except (MemoryError, RuntimeError) as err:  # Blender swallows it in a handler
         recording.error = f"writing frame {the_scene.frame_current} failed: {err}"
     return True

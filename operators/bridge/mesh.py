@@ -16,18 +16,20 @@ def empty(mesh):
         mesh.update()
 
 
-def write_attribute(mesh, name, values):
-    """Our per-vertex attribute `name` set to `values` ((N,) floats or (N, 3) vectors), or
-    removed when None (so a branch another ocean keeps unmuted cannot show stale values)."""
+def write_attribute(mesh, name, values, domain="POINT"):
+    """Our attribute `name` on `domain` (per vertex by default) set to `values` ((N,) floats or
+    (N, 3) vectors), or removed when None (so a branch another ocean keeps unmuted cannot show
+    stale values)."""
     if values is None:
         if name in mesh.attributes:
             mesh.attributes.remove(mesh.attributes[name])
         return
     kind, field = ("FLOAT_VECTOR", "vector") if values.ndim == 2 else ("FLOAT", "value")
-    if name in mesh.attributes and mesh.attributes[name].data_type != kind:
-        mesh.attributes.remove(mesh.attributes[name])
+    old = mesh.attributes.get(name)
+    if old is not None and (old.data_type != kind or old.domain != domain):
+        mesh.attributes.remove(old)
     if name not in mesh.attributes:
-        mesh.attributes.new(name, kind, "POINT")
+        mesh.attributes.new(name, kind, domain)
     mesh.attributes[name].data.foreach_set(field, values.ravel())
 
 
@@ -95,3 +97,35 @@ def write_arrays(mesh, arrays):
     except BaseException:
         empty(mesh)
         raise
+
+
+# A baked puff's triangle: its corners this far (m) from the puff, their mean the puff itself.
+PUFF_CORNERS = 1e-3 * np.array([[1.0, 0.0, 0.0], [-0.5, 0.866, 0.0], [-0.5, -0.866, 0.0]],
+                               np.float32)
+
+
+def write_puffs(mesh, local, values, faces=False):
+    """The spray's puffs into our mesh: positions `local` (N, 3) float32 and per-puff
+    attributes ({name: (N,)}), a vertex each; with `faces`, a small triangle each, centred on
+    the puff, the attributes on its face (what a bake writes: USD keeps a mesh's face
+    attributes, not a faceless one's point attributes)."""
+    n, built = len(local), False
+    if faces:
+        corners = (local[:, None, :] + PUFF_CORNERS).reshape(-1, 3)
+        if len(mesh.polygons) != n or len(mesh.vertices) != 3 * n:
+            built = True
+            mesh.clear_geometry()
+            mesh.vertices.add(3 * n)
+            mesh.loops.add(3 * n)
+            mesh.polygons.add(n)
+            mesh.loops.foreach_set("vertex_index", np.arange(3 * n, dtype=np.int32))
+            mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * n, 3, dtype=np.int32))
+        mesh.attributes["position"].data.foreach_set("vector", corners.ravel())
+    else:
+        if len(mesh.vertices) != n or len(mesh.polygons):
+            mesh.clear_geometry()
+            mesh.vertices.add(n)
+        mesh.attributes["position"].data.foreach_set("vector", local.ravel())
+    for name, per_puff in values.items():
+        write_attribute(mesh, name, per_puff, "FACE" if faces else "POINT")
+    mesh.update(calc_edges=built)
