@@ -28,7 +28,7 @@ from ...shaders import water
 from . import ahead, material_inputs, scene, shot
 from .bake_play import play
 from .bake_record import SCRATCH, Recording, folder_of, kept_path
-from .baked import body_material, free, is_copy
+from .baked import baked_companions, body_material, free, is_copy
 from .state import RUNTIME
 
 TIMER = "Projected Grid Bake Time"  # the node group that makes the exporter sample each frame
@@ -159,14 +159,16 @@ class Bake:
         view_layer = self.view_layer
         selected = [o for o in view_layer.objects if o.select_get()]
         active = view_layer.objects.active
-        exported = [obj] + _spray_cloud(obj, recording)
-        shown = [(o, o.hide_render, o.hide_viewport, o.hide_select) for o in exported]
-        points = [(m, m.show_render, m.show_viewport) for o in exported[1:]
+        clouds = _spray_cloud(obj, recording)
+        exported = [obj, *clouds]
+        shown = [(o, o.hide_render, o.hide_viewport, o.hide_select) for o in clouds]
+        points = [(m, m.show_render, m.show_viewport) for o in clouds
                   if (m := o.modifiers.get(water.SPRAY_POINTS)) is not None]
         recording.replaying = True
         try:
-            for o in exported:  # sampled each frame, and as meshes, where the exporter sees them
+            for o in exported:  # sampled each frame
                 o.modifiers.new(TIMER, "NODES").node_group = _time_group()
+            for o in clouds:  # ours: shown and selectable where the exporter sees them
                 o.hide_render = o.hide_viewport = o.hide_select = False
             for m, _, _ in points:  # the exporter writes the mesh of puffs, not points
                 m.show_render = m.show_viewport = False
@@ -195,10 +197,11 @@ class Bake:
         except OSError as err:
             raise RuntimeError(f"writing {self.path!r} failed: {err.strerror}") from None
         finally:
-            for o, hide_render, hide_viewport, hide_select in shown:
+            for o in exported:
                 timer = o.modifiers.get(TIMER)
                 if timer is not None:
                     o.modifiers.remove(timer)
+            for o, hide_render, hide_viewport, hide_select in shown:
                 o.hide_render, o.hide_viewport = hide_render, hide_viewport
                 o.hide_select = hide_select
             for m, show_render, show_viewport in points:
@@ -248,9 +251,7 @@ class Bake:
 def _spray_cloud(obj, recording):
     """[the spray's companion] if the bake kept puffs for it to write, else []."""
     cloud = obj.projgrid.spray_cloud
-    if recording.spray and cloud is not None and scene.owns(cloud) and scene.local(cloud):
-        return [cloud]
-    return []
+    return [cloud] if recording.spray and cloud in baked_companions(obj) else []
 
 
 def _animated(tree):

@@ -112,13 +112,13 @@ def _prim_path(obj, cache):
 def _play_spray(obj, cache, read_data, baked):
     """The spray's companion plays the puffs the bake holds (`baked`: a frame kept some) from
     the cache, before its points are drawn (its geometry nodes take a baked triangle per
-    puff); else it is emptied (no frame handler writes it while the ocean plays a bake)."""
+    puff); else it is left empty (no frame handler writes it while the ocean plays a bake).
+    Where it shows, its keyed visibility says (`_key_companion`)."""
     cloud = obj.projgrid.spray_cloud
-    if cloud is None or not scene.owns(cloud) or not scene.local(cloud):
+    if cloud not in baked_companions(obj):
         return
     mesh.empty(cloud.data)
     if not baked:
-        cloud.hide_render = cloud.hide_viewport = True
         return
     points = cloud.modifiers.get(water.SPRAY_POINTS)
     if points is not None and scene.owns(points.node_group):
