@@ -8,6 +8,8 @@ frame alone (a farm splitting frames renders the same foam)."""
 
 import threading
 import weakref
+from dataclasses import replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -32,6 +34,10 @@ UNRESOLVED_RAMP = 2.5
 # m: waves longer than this make whitecaps a vertex should place; the foam of shorter ones is
 # the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover).
 WHITECAP_WAVE = 8.0
+
+
+# ln(m/s): a keyed wind's whitecaps are calibrated at winds 5 % apart (`calibrated_at`).
+WIND_LATTICE = 0.05
 
 
 def sea_sample(span, samples=4096):
@@ -222,9 +228,41 @@ def at_thresholds(lod, calibration):
 def crest_calibration(source, time, wind_speed):
     """(level, thresholds): the band limit the whitecaps' cue is taken at where the grid is
     finer (`whitecap_level`) and the thresholds calibrated for the active whitecaps' share at
-    `time` (`foam_thresholds`)."""
-    return whitecap_level(source), foam_thresholds(source, time,
-                                                   active_coverage(source, wind_speed))
+    `time` (`foam_thresholds`), of the seas `calibrated_at` gives, interpolated."""
+    parts = [(foam_thresholds(sea, time, active_coverage(sea, wind)), weight)
+             for sea, wind, weight in calibrated_at(source, wind_speed)]
+    if len(parts) == 1:
+        return whitecap_level(source), parts[0][0]
+    levels = np.asarray(source.foam_levels(), dtype=np.float64)
+    thresholds, widths = (sum(weight * np.interp(levels, made[0], made[k])
+                              for made, weight in parts) for k in (1, 2))
+    return whitecap_level(source), (levels, thresholds, widths)
+
+
+def calibrated_at(source, wind_speed):
+    """The seas a source's whitecaps are calibrated on, each (sea, its wind, weight): the
+    source under a steady wind; under a keyed wind (a spectral sea laid out for its
+    `wind_span`: each frame a sea of its own) the same sea at the two winds about it of a
+    lattice WIND_LATTICE apart in log wind, weighted linearly in log wind: frames share their
+    calibrations, the thresholds change continuously, the share within 2 % (test_foam.py)."""
+    span = getattr(source, "wind_span", None)
+    if span is None or wind_speed <= 0.0:
+        return ((source, wind_speed, 1.0),)
+    x = np.log(wind_speed) / WIND_LATTICE
+    k = np.floor(x)
+    seas = []
+    for step, weight in ((k, 1.0 - (x - k)), (k + 1.0, x - k)):
+        wind = float(np.exp(step * WIND_LATTICE))
+        if weight > 0.0:
+            seas.append((_sea_at(type(source), replace(source.state, wind_speed=wind),
+                                 source.choppiness, source.seed, source.texels, span),
+                         wind, float(weight)))
+    return tuple(seas)
+
+
+@lru_cache(maxsize=8)
+def _sea_at(kind, state, choppiness, seed, texels, wind_span):
+    return kind(state, choppiness, seed, texels, wind_span)
 
 
 def foam_coverage(wind_speed):
@@ -255,11 +293,9 @@ def foam_look(source, wind_speed):
 def contact_foam(x, y, z, boxes, width):
     """Per-vertex foam in [0, 1] around boxes crossing the water: 1 at a box, fading to 0 at
     `width` metres from it. Points and box corners are world space relative to one origin.
-
     The distance is to the box itself, in its own frame: Blender's bound_box corners 0, 4, 3, 1
     are its origin and its x, y, z edges, which stay orthogonal under rotation and scale. All
-    boxes at once (`_near_boxes`); a point keeps its nearest box's foam.
-    """
+    boxes at once (`_near_boxes`); a point keeps its nearest box's foam."""
     width = max(float(width), 1e-6)
     p = np.stack([np.ravel(x), np.ravel(y), np.ravel(z)], axis=-1).astype(np.float64)
     foam = np.zeros(len(p), dtype=np.float32)

@@ -14,26 +14,27 @@ _JOBS = []  # its futures not yet finished (main thread only)
 
 
 def calibrate(source, time, wind_speed):
-    """Start making the calibrations the next FOAM_PERIODs after `time` need, for a source with
-    a `twin` to make them on (the spectrum's; the noise's cost little); returns how many
-    started. What the worker makes is what the frame would (foam.calibration, a function of
-    the settings and the time), on the source's twin."""
-    twin = getattr(source, "twin", None)
-    if twin is None:
-        return 0
-    coverage = foam.active_coverage(source, wind_speed)
-    keys = foam.CALIBRATIONS.reserve(source, foam.ahead(time, coverage))
+    """Start making the calibrations the next FOAM_PERIODs after `time` need, of the seas a
+    source's are made on (foam.calibrated_at) with a `twin` to make them on (the spectrum's;
+    the noise's cost little); returns how many started. What the worker makes is what the
+    frame would (foam.calibration, a function of the settings and the time), on a twin."""
+    started = 0
     _JOBS[:] = [job for job in _JOBS if not job.done()]
-    for n, key in enumerate(keys):
-        try:
-            if not _POOL:
-                _POOL.append(ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam"))
-            _JOBS.append(_POOL[0].submit(_make, twin(), source, key))
-        except BaseException:  # (shutting down, say): none waits for what will not be made
-            for left in keys[n:]:
-                foam.CALIBRATIONS.release(source, left)
-            raise
-    return len(keys)
+    for sea, wind, _ in foam.calibrated_at(source, wind_speed):  # (a keyed wind's: two)
+        if getattr(sea, "twin", None) is None:
+            continue
+        keys = foam.CALIBRATIONS.reserve(sea, foam.ahead(time, foam.active_coverage(sea, wind)))
+        for n, key in enumerate(keys):
+            try:
+                if not _POOL:
+                    _POOL.append(ThreadPoolExecutor(1, thread_name_prefix="projgrid-foam"))
+                _JOBS.append(_POOL[0].submit(_make, sea.twin(), sea, key))
+            except BaseException:  # (shutting down, say): none waits for what will not be made
+                for left in keys[n:]:
+                    foam.CALIBRATIONS.release(sea, left)
+                raise
+        started += len(keys)
+    return started
 
 
 def _make(twin, source, key):

@@ -66,8 +66,8 @@ def test_gathering_a_frame_writes_nothing(bridge, read_only, render):
     scene = bpy.context.scene
     add_camera(scene, location=(0.0, 0.0, 4.0))
     obj = add_ocean()
-    # (a keyed wind's every frame a new sea: its foam calibrated anew, a second a frame; the
-    # foam's settings are gathered as any other's)
+    # (a keyed wind's foam is calibrated at each 5 % of its wind: seconds; the foam's settings
+    # are gathered as any other's)
     obj.projgrid.foam = "OFF"
     obj.projgrid.wind_speed = 6.0
     obj.keyframe_insert("projgrid.wind_speed", frame=1)

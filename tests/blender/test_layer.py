@@ -72,7 +72,7 @@ def test_the_gusts_drift_with_a_keyframed_wind(bridge):
     add_camera(scene)
     obj = add_ocean()
     s = obj.projgrid
-    s.foam = "OFF"  # (calibrated anew for each frame's wind: seconds, and not what is tested)
+    s.foam = "OFF"  # (its calibrations cost seconds, and are not what is tested)
     for frame, speed, direction in ((1, 4.0, 0.0), (49, 12.0, np.pi / 2)):
         s.wind_speed, s.wind_direction = speed, direction
         s.keyframe_insert("wind_speed", frame=frame)

@@ -1,0 +1,66 @@
+"""The whitecaps under a keyed wind: each frame is a sea of its own (its wind), calibrated on the
+same sea at the winds of a lattice about it (foam.calibrated_at), so frames share calibrations,
+the thresholds change continuously with the wind and the share foamed stays Monahan's."""
+
+import numpy as np
+import pytest
+
+from projgrid_addon import foam
+from projgrid_addon.spectral_field import SpectralField
+from projgrid_addon.spectrum import SeaState
+
+SPAN = (4.4, 24.0)  # a storm building from Beaufort 3 to 9 (docs: A storm building)
+
+
+def keyed(u):
+    return SpectralField(SeaState(wind_speed=u), choppiness=1.0, seed=4, wind_span=SPAN)
+
+
+@pytest.mark.parametrize("u", [8.3, 12.7, 19.2])
+def test_a_keyed_wind_s_whitecaps_cover_the_share_of_its_own_wind(u):
+    """Between the lattice's winds the interpolated thresholds foam, on the frame's own sea at
+    every calibrated band limit, the active share of its wind within 3 % (as a calibration of
+    that sea itself does exactly)."""
+    sea = keyed(u)
+    seas = foam.calibrated_at(sea, u)
+    assert len(seas) == 2 and seas[0][1] < u < seas[1][1]
+    assert seas[1][1] / seas[0][1] == pytest.approx(np.exp(foam.WIND_LATTICE))
+    assert sum(weight for _, _, weight in seas) == pytest.approx(1.0)
+    _, (levels, thresholds, widths) = foam.crest_calibration(sea, 3.0, u)
+    x, y = foam.sea_sample(sea.foam_span, 16384)
+    want = foam.active_coverage(sea, u)
+    for k in range(0, len(levels), 5):
+        cue = sea.foam_cue(np.stack([x, y]), 3.0, np.full(x.shape, levels[k], np.float32))
+        got = np.clip((cue - thresholds[k]) / widths[k] + 0.5, 0.0, 1.0).mean()
+        assert got == pytest.approx(want, rel=0.03), (u, levels[k], got / want)
+
+
+def test_a_keyed_wind_s_thresholds_change_continuously_and_are_shared():
+    """Across a lattice wind the thresholds do not jump (each side's nearest calibration is
+    the same sea's), a steady wind's sea is calibrated on itself, and a wind keyed from 8 to
+    10 m/s over 48 frames makes a calibration per lattice wind and second it crosses, not one
+    per frame."""
+    lattice = float(np.exp(np.ceil(np.log(9.0) / foam.WIND_LATTICE) * foam.WIND_LATTICE))
+    below, above = (foam.crest_calibration(keyed(w), 2.0, w)[1]
+                    for w in (lattice * (1 - 1e-6), lattice * (1 + 1e-6)))
+    assert np.allclose(below[1], above[1], rtol=1e-4, atol=1e-6)
+    assert np.allclose(below[2], above[2], rtol=1e-4, atol=1e-6)
+    steady = SpectralField(SeaState(wind_speed=9.0), choppiness=1.0, seed=4)
+    assert foam.calibrated_at(steady, 9.0) == ((steady, 9.0, 1.0),)
+    kept = foam.Calibrations()
+    made = []
+
+    def counted(source, *key):  # what is made, not how (the share: the test above)
+        made.append((source.state.wind_speed, key[0]))
+        levels = np.asarray(source.foam_levels())
+        return levels, np.zeros_like(levels), np.ones_like(levels)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(foam, "CALIBRATIONS", kept)
+        patch.setattr(foam, "calibration", counted)
+        for frame in range(49):
+            u = 8.0 + 2.0 * frame / 48.0
+            foam.crest_calibration(keyed(u), frame / 24.0, u)
+    winds = {w for w, _ in made}
+    assert len(winds) <= np.log(10.0 / 8.0) / foam.WIND_LATTICE + 3, sorted(winds)
+    assert len(made) == len(set(made)) <= 3 * len(winds), made  # each made once
