@@ -38,6 +38,9 @@ BIG = 2  # how many times more texels (and metres) a band holding more than that
 # Fields a tile can give: the height, the choppy displacement along x and y, and the height's
 # slopes along x and y (slope_layer.py).
 FIELDS = ("h", "dx", "dy", "sx", "sy")
+# ln(m/s): a keyed wind's sea is made at winds this far apart in log wind (5 %), its frames'
+# interpolated between (`wind_lattice`); its whitecaps are calibrated alike (foam.py).
+WIND_LATTICE = 0.05
 GEOMETRY = (0, 1, 2)
 SIDEWAYS = (1, 2)
 
@@ -120,6 +123,41 @@ def tile_phases(seed, band, tile, texels):
     return out
 
 
+def wind_lattice(wind_speed):
+    """((wind, weight), ...): the winds about `wind_speed` of a lattice WIND_LATTICE apart in
+    log wind, weighted linearly in log wind (those of weight 0 left out)."""
+    x = np.log(max(float(wind_speed), 1e-6)) / WIND_LATTICE
+    k = np.floor(x)
+    return tuple((float(np.exp(step * WIND_LATTICE)), float(weight))
+                 for step, weight in ((k, 1.0 - (x - k)), (k + 1.0, x - k)) if weight > 0.0)
+
+
+@lru_cache(maxsize=128)
+def _cell_energy(size, angle, shortest, longest, state, texels, part):
+    """Sixteen times each lattice wave vector's energy (spectrum.wavenumber_spectrum of `part`)
+    in a tile `size` m across turned by `angle`, within the band: the sum over its lattice
+    cell (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
+    plane exactly and the sum over the lattice is the spectrum's integral even where the
+    lattice is coarse against the peak and the spreading. The spectrum is evaluated only
+    inside the band's ring (a tenth of the lattice). Kept: a keyed wind's frames share the
+    lattice winds'."""
+    nx, ny, _ = _lattice(texels)
+    dk = 2.0 * np.pi / size
+    c, s = np.cos(angle), np.sin(angle)
+    lo, hi = size / longest, size / shortest  # band edges in lattice units
+    sub = (np.arange(4) + 0.5) / 4.0 - 0.5
+    energy = np.zeros(nx.shape)
+    for a in sub:
+        for b in sub:
+            n = np.hypot(nx + a, ny + b)
+            inside = (n >= lo) & (n < hi)
+            ax, ay = nx[inside] + a, ny[inside] + b
+            energy[inside] += spectrum.wavenumber_spectrum(
+                (c * ax - s * ay) * dk, (s * ax + c * ay) * dk, state, part)
+    energy.setflags(write=False)
+    return energy
+
+
 @lru_cache(maxsize=8)
 def _lattice(texels):
     """Integer wave-vector coordinates (nx, ny) of an FFT grid, and the index of -n."""
@@ -136,7 +174,9 @@ class Cascade:
     displacement (`gives`, the fields it gives, leaves those out)."""
 
     def __init__(self, size, angle, shortest, longest, share, state, phases, texels,
-                 part=None, smooth=False):
+                 part=None, smooth=False, keyed=False):
+        """`keyed`: the state's wind is a keyed wind's, its waves' amplitudes interpolated
+        between the lattice winds' about it (`wind_lattice`)."""
         self.size, self.shortest = float(size), float(shortest)
         self.texels = texels
         self.turn = (np.cos(angle), np.sin(angle))
@@ -146,21 +186,14 @@ class Cascade:
 
         def world(ax, ay):  # a tile lattice wave vector, turned onto the sea
             return (c * ax - s * ay) * dk, (s * ax + c * ay) * dk
-        lo, hi = self.size / longest, self.size / shortest  # band edges in lattice units
-        # Each wave vector stands for its lattice cell: its energy is the mean over the cell
-        # (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
-        # plane exactly and the sum over the lattice is the spectrum's integral even where the
-        # lattice is coarse against the peak and the spreading.
-        # The spectrum is evaluated only inside the band's ring (a tenth of the lattice).
-        sub = (np.arange(4) + 0.5) / 4.0 - 0.5
-        energy = np.zeros(nx.shape)
-        for a in sub:
-            for b in sub:
-                n = np.hypot(nx + a, ny + b)
-                inside = (n >= lo) & (n < hi)
-                energy[inside] += spectrum.wavenumber_spectrum(
-                    *world(nx[inside] + a, ny[inside] + b), state, part)
-        energy *= share / 16.0
+        cell = (self.size, float(angle), float(shortest), float(longest))
+        if keyed:  # the amplitudes interpolated: the waves are, their phases shared
+            energy = sum(weight * np.sqrt(_cell_energy(*cell, replace(
+                state, wind_speed=wind), texels, part)) for wind, weight in wind_lattice(
+                    state.wind_speed)) ** 2
+        else:
+            energy = _cell_energy(*cell, state, texels, part)
+        energy = energy * (share / 16.0)
         # The tiles are synthesised in single precision: the vertices are float32 anyway, and
         # the transforms and the patches move half the bytes.
         self.h0 = (phases * (np.sqrt(0.5 * energy) * dk)).astype(np.complex64)
@@ -291,7 +324,7 @@ def layout(state, seed, texels_base, wind_span=None):
             angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
             cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
                               state, tile_phases(seed, b, j, texels), texels, part,
-                              smooth=core)
+                              smooth=core, keyed=wind_span is not None)
             if not cascade.empty:
                 cascades.append(cascade)
         made = cascades[first:]

@@ -50,7 +50,8 @@ class SlopeLayer:
     """The layer's tiles for a sea state and seed: `slopes(t)` per band, `lookups` for the
     shader's texture coordinates, `bands` for its weights."""
 
-    def __init__(self, state, seed):
+    def __init__(self, state, seed, keyed=False):
+        """`keyed`: a keyed wind's (Cascade)."""
         self._made = None
         self.cascades = []
         for b in range(LAYER_FIRST, BANDS):
@@ -58,7 +59,7 @@ class SlopeLayer:
             self.cascades.append(Cascade(
                 LAYER_TEXELS * shortest / SAMPLES_PER_WAVE, np.radians(31.0 + 47.0 * b),
                 shortest, longest, 1.0, state, tile_phases(seed, b, LAYER_TILE, LAYER_TEXELS),
-                LAYER_TEXELS))
+                LAYER_TEXELS, keyed=keyed))
 
     @cached_property
     def bands(self):

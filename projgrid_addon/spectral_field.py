@@ -119,7 +119,7 @@ class SpectralField:
     @cached_property
     def layer(self):
         """The slopes of the short bands as the shader's normal maps (slope_layer.py)."""
-        return SlopeLayer(self.state, self.seed)
+        return SlopeLayer(self.state, self.seed, self.wind_span is not None)
 
     @cached_property
     def spread(self):

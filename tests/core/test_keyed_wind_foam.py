@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from projgrid_addon import foam
+from projgrid_addon.cascade import WIND_LATTICE
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
 
@@ -24,7 +25,7 @@ def test_a_keyed_wind_s_whitecaps_cover_the_share_of_its_own_wind(u):
     sea = keyed(u)
     seas = foam.calibrated_at(sea, u)
     assert len(seas) == 2 and seas[0][1] < u < seas[1][1]
-    assert seas[1][1] / seas[0][1] == pytest.approx(np.exp(foam.WIND_LATTICE))
+    assert seas[1][1] / seas[0][1] == pytest.approx(np.exp(WIND_LATTICE))
     assert sum(weight for _, _, weight in seas) == pytest.approx(1.0)
     _, (levels, thresholds, widths) = foam.crest_calibration(sea, 3.0, u)
     x, y = foam.sea_sample(sea.foam_span, 16384)
@@ -40,7 +41,7 @@ def test_a_keyed_wind_s_thresholds_change_continuously_and_are_shared():
     the same sea's), a steady wind's sea is calibrated on itself, and a wind keyed from 8 to
     10 m/s over 48 frames makes a calibration per lattice wind and second it crosses, not one
     per frame."""
-    lattice = float(np.exp(np.ceil(np.log(9.0) / foam.WIND_LATTICE) * foam.WIND_LATTICE))
+    lattice = float(np.exp(np.ceil(np.log(9.0) / WIND_LATTICE) * WIND_LATTICE))
     below, above = (foam.crest_calibration(keyed(w), 2.0, w)[1]
                     for w in (lattice * (1 - 1e-6), lattice * (1 + 1e-6)))
     assert np.allclose(below[1], above[1], rtol=1e-4, atol=1e-6)
@@ -62,5 +63,13 @@ def test_a_keyed_wind_s_thresholds_change_continuously_and_are_shared():
             u = 8.0 + 2.0 * frame / 48.0
             foam.crest_calibration(keyed(u), frame / 24.0, u)
     winds = {w for w, _ in made}
-    assert len(winds) <= np.log(10.0 / 8.0) / foam.WIND_LATTICE + 3, sorted(winds)
+    assert len(winds) <= np.log(10.0 / 8.0) / WIND_LATTICE + 3, sorted(winds)
     assert len(made) == len(set(made)) <= 3 * len(winds), made  # each made once
+
+
+@pytest.mark.parametrize("u", [6.1, 13.4])
+def test_a_keyed_wind_s_sea_is_its_wind_s(u):
+    """Between the lattice's winds the keyed sea's waves (their amplitudes interpolated, their
+    phases shared) have the height of a steady sea of that wind within 1 %."""
+    steady = SpectralField(SeaState(wind_speed=u), choppiness=1.0, seed=4)
+    assert keyed(u).spread[0] == pytest.approx(steady.spread[0], rel=0.01)

@@ -152,9 +152,11 @@ def sea_cost(repeats=45):
 def playback_cost(seconds=3, rounds=2):
     """Frame times while playing the spectral sea on the viewport grid (Beaufort 5, foam on):
     `seconds` of consecutive frames, with the coming seconds' whitecap calibrations made
-    ahead on a worker thread (operators/bridge/ahead.py) and with each made by the frame that
-    first needs it, alternately, each round at times of its own. Per variant: the median,
-    90th percentile and slowest frame, and the frames slower than twice the median (stalls)."""
+    ahead on a worker thread (operators/bridge/ahead.py), with each made by the frame that
+    first needs it, and (ahead) under a wind keyed from 8 to 10 m/s over the seconds (each
+    frame a sea of its own), in turn, each round at times of its own. Per variant: the
+    median, 90th percentile and slowest frame, and the frames slower than twice the median
+    (stalls)."""
     bridge = extension().operators.bridge
     ahead = bridge.ahead.calibrate
     scene = projected_scene(65)
@@ -164,19 +166,27 @@ def playback_cost(seconds=3, rounds=2):
         bpy.ops.projgrid.sea_state(beaufort=5)
     obj.projgrid.foam = "ON"
     obj.projgrid.resolution_x, obj.projgrid.resolution_y = 65, 129
-    frames = {"ahead on a worker": [], "in the frame": []}
-    start = scene.frame_current
+    frames = {"ahead on a worker": [], "in the frame": [], "wind keyed 8-10 m/s, ahead": []}
+    start, steady = scene.frame_current, obj.projgrid.wind_speed
     try:
         for r in range(rounds):
             for n, variant in enumerate(frames):
-                bridge.ahead.calibrate = ahead if n == 0 else (lambda *a, **k: 0)
+                bridge.ahead.calibrate = ahead if n != 1 else (lambda *a, **k: 0)
                 bridge.ahead.finish()  # the worker idle as each variant starts
-                first = start + (2 * r + n) * 200 * scene.render.fps // 24
+                first = start + (3 * r + n) * 200 * scene.render.fps // 24
+                last = first + seconds * scene.render.fps
+                if n == 2:
+                    for frame, wind in ((first, 8.0), (last, 10.0)):
+                        obj.projgrid.wind_speed = wind
+                        obj.projgrid.keyframe_insert("wind_speed", frame=frame)
                 scene.frame_set(first)
-                for f in range(first + 1, first + 1 + seconds * scene.render.fps):
+                for f in range(first + 1, last + 1):
                     t = time.perf_counter()
                     scene.frame_set(f)
                     frames[variant].append(time.perf_counter() - t)
+                if n == 2:
+                    obj.animation_data_clear()
+                    obj.projgrid.wind_speed = steady
     finally:
         bridge.ahead.calibrate = ahead
         bpy.data.scenes.remove(scene)
