@@ -127,12 +127,14 @@ def wind_lattice(wind_speed):
     """((wind, weight), ...): the winds about `wind_speed` of a lattice WIND_LATTICE apart in
     log wind, weighted linearly in log wind (those of weight 0 left out)."""
     x = np.log(max(float(wind_speed), 1e-6)) / WIND_LATTICE
+    if abs(x - round(x)) < 1e-9:  # a lattice wind (its log a rounding away): that wind alone
+        x = float(round(x))
     k = np.floor(x)
     return tuple((float(np.exp(step * WIND_LATTICE)), float(weight))
                  for step, weight in ((k, 1.0 - (x - k)), (k + 1.0, x - k)) if weight > 0.0)
 
 
-@lru_cache(maxsize=128)
+@lru_cache(maxsize=512)  # a lattice wind's tiles: 30-40 arrays of 32-131 KB
 def _cell_energy(size, angle, shortest, longest, state, texels, part):
     """Sixteen times each lattice wave vector's energy (spectrum.wavenumber_spectrum of `part`)
     in a tile `size` m across turned by `angle`, within the band: the sum over its lattice
@@ -302,8 +304,8 @@ def layout(state, seed, texels_base, wind_span=None):
     range of its cascades) per band. Each band's share of the variance (`layout_shares`: over
     a keyframed wind's span) is spread over ceil(share / SHARE_PER_TILE) tiles of sizes
     TILE_RATIOS apart, turned evenly over a quarter turn, with phases of their own, and their
-    energy is the state's; the swell's core (the last group) is band-limited along its
-    headings."""
+    energy is the state's (under a keyed wind, interpolated: Cascade); the swell's core (the
+    last group) is band-limited along its headings."""
     cascades, groups = [], []
     swell = has_swell_core(state)
     shares = layout_shares(state, wind_span)

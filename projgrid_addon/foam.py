@@ -37,8 +37,6 @@ UNRESOLVED_RAMP = 2.5
 WHITECAP_WAVE = 8.0
 
 
-
-
 def sea_sample(span, samples=4096):
     """x, y of a fixed pattern of `samples` points over a square `span` metres across: a
     rotated lattice, which spreads them over the square without lining up with a texture."""
@@ -101,8 +99,8 @@ class Calibrations:
             making.wait()
             with self._lock:
                 made = self._made.get(source, {}).get(key)
-        if made is None:
-            made = calibration(source, *key)
+        if made is None:  # on a twin where it has one: the source keeps no fields of it
+            made = calibration(getattr(source, "twin", lambda: source)(), *key)
             self.put(source, key, made)
         return made
 
@@ -242,7 +240,7 @@ def calibrated_at(source, wind_speed):
     """The seas a source's whitecaps are calibrated on, each (sea, its wind, weight): the
     source under a steady wind; under a keyed wind (a spectral sea laid out for its
     `wind_span`: each frame a sea of its own) the same sea at the winds about it of the keyed
-    sea's lattice (cascade.wind_lattice), weighted as its energy is: frames share their
+    sea's lattice (cascade.wind_lattice), weighted as its waves are: frames share their
     calibrations, the thresholds change continuously, the share within 3 % (test)."""
     span = getattr(source, "wind_span", None)
     if span is None or wind_speed <= 0.0:

@@ -81,7 +81,7 @@ class SpectralField:
         """`wind_span`: (least, most) wind speed a shot's keyframed wind takes; the tiles are
         laid out for all of it, so the sea changes smoothly as the wind does (None: this
         state's wind only)."""
-        self.state, self.wind_span = state, wind_span
+        self.state, self.wind_span = state, None if wind_span is None else tuple(wind_span)
         self.choppiness = non_negative("choppiness", choppiness)
         self.seed = integer("seed", seed, 0, 2**63)
         self.texels = integer("texels", texels, 8, 1024)

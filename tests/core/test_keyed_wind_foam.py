@@ -5,8 +5,8 @@ the thresholds change continuously with the wind and the share foamed stays Mona
 import numpy as np
 import pytest
 
-from projgrid_addon import foam
-from projgrid_addon.cascade import WIND_LATTICE
+from projgrid_addon import cascade, foam
+from projgrid_addon.cascade import WIND_LATTICE, wind_lattice
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
 
@@ -73,3 +73,20 @@ def test_a_keyed_wind_s_sea_is_its_wind_s(u):
     phases shared) have the height of a steady sea of that wind within 1 %."""
     steady = SpectralField(SeaState(wind_speed=u), choppiness=1.0, seed=4)
     assert keyed(u).spread[0] == pytest.approx(steady.spread[0], rel=0.01)
+
+
+def test_a_keyed_wind_s_waves_are_the_lattice_winds_interpolated():
+    """Between two lattice winds the keyed sea's waves are theirs interpolated (each wave's
+    amplitude linearly in log wind, its phase shared), and another frame in the same lattice
+    cell evaluates no spectrum (the lattice winds' are kept)."""
+    u = 9.3
+    (w0, a), (w1, b) = wind_lattice(u)
+    assert w0 < u < w1 and a + b == pytest.approx(1.0)
+    assert wind_lattice(w1) == ((pytest.approx(w1), 1.0),)  # a lattice wind: itself alone
+    seas = [keyed(w) for w in (u, w0, w1)]
+    for c, c0, c1 in zip(*(s.cascades for s in seas), strict=True):
+        assert np.allclose(np.abs(c.h0), a * np.abs(c0.h0) + b * np.abs(c1.h0), rtol=1e-5,
+                           atol=1e-12)
+    misses = cascade._cell_energy.cache_info().misses
+    keyed(u * 1.001)
+    assert cascade._cell_energy.cache_info().misses == misses
