@@ -7,10 +7,14 @@ Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
 The white share is measured on the picture, averaged over FRAMES: each frame is rendered three
 times, as drawn, with the foam muted and with foam everywhere; a pixel's foam cover is how far
-it went from the muted picture toward the all-foam one (in display values), and it is white
-where that is over a half (a sea without foam called for, force 2, has none to whiten).
-Monahan's share counts whitecaps and their foam: from Beaufort 7 a fourth render draws them
-without the wind's blown streaks (streaks.blown_coverage), whose share is the rest.
+it went from the muted picture toward the all-foam one. In linear light (the render's own
+values, before the view transform) that is the share of the pixel's area the foam covers (the
+Foam mix is linear in it), so its mean over the sea's pixels is the share of the sea the
+picture shows covered: Monahan's share is such an area share. In display values (after the view
+transform's curve) partial cover reads larger (a pixel a tenth covered reads as a fifth): the
+pixels over a half there are the share that looks white (a sea without foam called for, force
+2, has none). Monahan's share counts whitecaps and their foam: from Beaufort 7 a fourth render
+draws them without the wind's blown streaks (streaks.blown_coverage), whose share is the rest.
 `make bench` runs it (step `beaufort`); alone: python -m tools.beaufort [out_dir] [--quick]."""
 
 import json
@@ -30,16 +34,30 @@ WHITE = 0.5  # a pixel's foam cover from which it reads as white
 
 
 def render(scene, path):
+    """Render the shot to `path` (PNG); its luminance in display values and in linear light
+    (the render result saved as EXR beside it, before the view transform)."""
     import bpy
     import numpy as np
 
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
-    img = bpy.data.images.load(path)
-    w, h = img.size
-    px = np.array(img.pixels[:], np.float32).reshape(h, w, 4)[::-1, :, :3]
-    bpy.data.images.remove(img)
-    return px @ np.array([0.2126, 0.7152, 0.0722])
+    settings = scene.render.image_settings
+    kept = settings.file_format, settings.color_depth
+    linear = path[:-4] + ".exr"
+    try:
+        settings.file_format, settings.color_depth = "OPEN_EXR", "32"
+        bpy.data.images["Render Result"].save_render(linear, scene=scene)
+    finally:
+        settings.file_format, settings.color_depth = kept
+    out = []
+    for name in (path, linear):
+        img = bpy.data.images.load(name)
+        w, h = img.size
+        px = np.array(img.pixels[:], np.float32).reshape(h, w, 4)[::-1, :, :3]
+        bpy.data.images.remove(img)
+        out.append(px @ np.array([0.2126, 0.7152, 0.0722]))
+    os.remove(linear)
+    return tuple(out)
 
 
 def without_blown(group, scene, path):
@@ -60,10 +78,12 @@ def without_blown(group, scene, path):
 
 
 def white_share(group, scene, path, blown=True):
-    """(white share, white share of the whitecaps and their foam, mean cover) of the sea's
-    pixels in the shot, from the picture as drawn (written to `path`), two more with the Foam
-    mix's factor at 0 and at 1, and one without the blown streaks (if `blown`: there are some;
-    else the whitecaps' share is the white share)."""
+    """The shares of the sea's pixels in the shot, from the picture as drawn (written to
+    `path`), two more with the Foam mix's factor at 0 and at 1, and one without the blown
+    streaks (if `blown`: there are some; else the whitecaps' are the drawn ones'): {white,
+    whitecaps: the share over a half covered in display values, of all the foam and of the
+    whitecaps and their foam; cover: the mean cover in display values; area, whitecaps_area:
+    the mean cover in linear light, the share of the sea's area covered}."""
     import numpy as np
 
     foam = group.nodes["Foam"].inputs[0]
@@ -79,14 +99,19 @@ def white_share(group, scene, path, blown=True):
         group.links.new(source, foam)
     drawn = render(scene, path)
     whitecaps = without_blown(group, scene, f"{path[:-4]}_whitecaps.png") if blown else drawn
-    gain = lum[1.0] - lum[0.0]
-    sea = gain > 0.05  # where foam could show: the sea, not the sky (none: no foam drawn)
-    if not sea.any():
-        return 0.0, 0.0, 0.0
-    drawn, whitecaps = (np.clip((p - lum[0.0]) / np.where(sea, gain, 1.0), 0.0, 1.0)[sea]
-                        for p in (drawn, whitecaps))
-    return (float((drawn > WHITE).mean()), float((whitecaps > WHITE).mean()),
-            float(drawn.mean()))
+    shares = {}
+    for k, space in enumerate(("display", "linear")):
+        gain = lum[1.0][k] - lum[0.0][k]
+        # where foam could show: the sea, not the sky (none: no foam drawn)
+        sea = gain > 0.05 * (1.0 if space == "display" else max(float(gain.max()), 1e-9))
+        if not sea.any():
+            return dict.fromkeys(("white", "whitecaps", "cover", "area", "whitecaps_area"), 0.0)
+        shares[space] = [np.clip((p[k] - lum[0.0][k]) / np.where(sea, gain, 1.0), 0.0,
+                                 1.0)[sea] for p in (drawn, whitecaps)]
+    (drawn, whitecaps), (area, whitecaps_area) = shares["display"], shares["linear"]
+    return {"white": float((drawn > WHITE).mean()),
+            "whitecaps": float((whitecaps > WHITE).mean()), "cover": float(drawn.mean()),
+            "area": float(area.mean()), "whitecaps_area": float(whitecaps_area.mean())}
 
 
 def shoot(out, quick=False):
@@ -121,11 +146,9 @@ def shoot(out, quick=False):
                                           streaks.blown_coverage(u) > 0.0))
                 if frame == FRAME:
                     os.replace(os.path.join(work, f"{frame}_{name}"), os.path.join(out, name))
-            white, whitecaps, cover = (float(v) for v in np.mean(shares, axis=0))
-            rows.append({"force": force, "height": height, "white": white,
-                         "whitecaps": whitecaps, "cover": cover,
-                         "frames": [list(v) for v in shares],
-                         "monahan": effects.whitecap_coverage(u),
+            rows.append({"force": force, "height": height,
+                         **{k: float(np.mean([f[k] for f in shares])) for k in shares[0]},
+                         "frames": shares, "monahan": effects.whitecap_coverage(u),
                          "blown": streaks.blown_coverage(u), "path": name})
             print(json.dumps(rows[-1]), flush=True)
     return rows

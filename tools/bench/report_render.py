@@ -276,25 +276,29 @@ def _pictures(report):
 
 
 def _beaufort(report):
-    """§12: every force as the picture shows it, and its white share against Monahan's."""
-    rows = [{"whitecaps": r["white"], "blown": 0.0, **r, "view": f"{r['height']:.0f} m"}
-            for r in report.results["beaufort"]]
+    """§12: every force as the picture shows it, and the share of the sea its whitecaps cover
+    against Monahan's."""
+    rows = [{**r, "view": f"{r['height']:.0f} m"} for r in report.results["beaufort"]]
     for r in rows:
-        r["ratio"] = r["whitecaps"] / r["monahan"] if r["monahan"] > 0 else 0.0
-        r["streaks"] = r["white"] - r["whitecaps"]
+        r["ratio"] = r["whitecaps_area"] / r["monahan"] if r["monahan"] > 0 else 0.0
+        r["looks"] = r["whitecaps"] / r["monahan"] if r["monahan"] > 0 else 0.0
     table = _table(rows, [("force", "force", "d"), ("camera", "view", ""),
-                          ("white share", "white", ".2%"), ("mean cover", "cover", ".2%"),
-                          ("whitecaps", "whitecaps", ".2%"), ("Monahan", "monahan", ".2%"),
-                          ("whitecaps / Monahan", "ratio", ".2f"),
-                          ("blown streaks", "streaks", ".2%"), ("their share", "blown", ".2%")])
+                          ("foam's area", "area", ".2%"),
+                          ("whitecaps' area", "whitecaps_area", ".2%"),
+                          ("Monahan", "monahan", ".2%"),
+                          ("whitecaps' area / Monahan", "ratio", ".2f"),
+                          ("looks white", "white", ".2%"),
+                          ("whitecaps look white", "whitecaps", ".2%"),
+                          ("whitecaps look white / Monahan", "looks", ".2f"),
+                          ("blown streaks' share", "blown", ".2%")])
     pictures = [f"![Beaufort {r['force']} from {r['view']}]({r['path']})" for r in rows]
     foamed = [r["ratio"] for r in rows if r["force"] >= 4]
     if foamed:
         low, high = min(foamed), max(foamed)
         report.targets.append(Target(
-            "Rendered whitecaps' white share 0.5-2× Monahan's, forces 4-10, from 5 m and 40 m",
-            f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
-            "**White share.** A view holds few breakers, and the foam is placed on the "
+            "Rendered whitecaps' share of the sea 0.5-2× Monahan's, forces 4-10, from 5 m "
+            "and 40 m", f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
+            "**Whitecaps' share.** A view holds few breakers, and the foam is placed on the "
             "breaking crests: the mean of three frames still swings with a cluster of them "
             "near the camera (each frame's share is in benchmarks.json)."))
     report.md += [
@@ -302,13 +306,17 @@ def _beaufort(report):
         "Each force's preset from 5 m (4° down) and 40 m (12° down), the picture frame 48, "
         "the shares the mean of frames 48, 96 and 144, the wind blowing away 30° right of the "
         "view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
-        "goes from the picture with the foam muted toward the one with foam everywhere "
-        "(display values); white where over a half. Monahan and O'Muircheartaigh's whitecap "
-        "share is 1.59e-5 U^2.55, of the whitecaps and their foam: *whitecaps* is the white "
-        "share of a render without the wind's blown streaks (from Beaufort 7: none up to 13.9 "
-        "m/s, the sea white at 40 m/s; their share of the sea, `streaks.blown_coverage`, "
-        "beside the white they add). Three frames of one view, so a few breakers more or "
-        "less move it.", "", table, "", *pictures, ""]
+        "goes from the picture with the foam muted toward the one with foam everywhere. In "
+        "linear light (the render's values before the view transform) that is the share of "
+        "the pixel's area the foam covers, and its mean over the sea's pixels the share of "
+        "the sea the picture shows covered (*area*), which is what Monahan and "
+        "O'Muircheartaigh's 1.59e-5 U^2.55 measures, of the whitecaps and their foam: "
+        "*whitecaps' area* is that of a render without the wind's blown streaks (from "
+        "Beaufort 7: none up to 13.9 m/s, the sea white at 40 m/s; *blown streaks' share*, "
+        "`streaks.blown_coverage`). In display values partial cover reads larger (a pixel a "
+        "tenth covered reads as about a fifth): *looks white* is the share of the sea's "
+        "pixels over half covered there, as the eye reads the picture. Three frames of one "
+        "view, so a few breakers more or less move it.", "", table, "", *pictures, ""]
 
 
 def _memory(report):
