@@ -98,6 +98,7 @@ class FrameInputs:
     our_material: bool  # the mesh draws our water material (else no slope layer is made)
     volume_reach: float  # m: as far as EEVEE draws volumes
     ahead: bool  # the coming seconds' foam may be calibrated ahead (the viewport's frames)
+    winds_ahead: tuple = ()  # a keyed wind's speeds at the coming FOAM_PERIODs' starts
 
 
 @dataclass(eq=False)

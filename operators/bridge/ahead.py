@@ -13,14 +13,17 @@ _POOL = []  # the worker, made when first needed
 _JOBS = []  # its futures not yet finished (main thread only)
 
 
-def calibrate(source, time, wind_speed):
+def calibrate(source, time, wind_speed, winds_ahead=()):
     """Start making the calibrations the next FOAM_PERIODs after `time` need, of the seas a
     source's are made on (foam.calibrated_at) with a `twin` to make them on (the spectrum's;
-    the noise's cost little); returns how many started. What the worker makes is what the
+    the noise's cost little), and under a keyed wind those of the seas of `winds_ahead` (the
+    wind at those times) too; returns how many started. What the worker makes is what the
     frame would (foam.calibration, a function of the settings and the time), on a twin."""
     started = 0
     _JOBS[:] = [job for job in _JOBS if not job.done()]
-    for sea, wind, _ in foam.calibrated_at(source, wind_speed):  # (a keyed wind's: two)
+    seas = {id(sea): (sea, wind) for w in (wind_speed, *winds_ahead)
+            for sea, wind, _ in foam.calibrated_at(source, w)}  # (a keyed wind's: two each)
+    for sea, wind in seas.values():
         if getattr(sea, "twin", None) is None:
             continue
         keys = foam.CALIBRATIONS.reserve(sea, foam.ahead(time, foam.active_coverage(sea, wind)))

@@ -71,7 +71,8 @@ def frame(read, plan, refusal=None):
     in_use = effects_in_use()
     _write_materials(read, plan, surface, in_use)
     if inputs.ahead and plan.on["foam"] and result.visible:
-        ahead.calibrate(plan.source, inputs.time, inputs.settings.wind_speed)
+        ahead.calibrate(plan.source, inputs.time, inputs.settings.wind_speed,
+                        inputs.winds_ahead)
     companions.place_companions(surface, plan.camera, float(inputs.world[2, 3]), plan.bound,
                                 plan.on, in_use, inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))

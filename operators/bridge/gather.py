@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...projgrid_addon import Camera, frame_plan, shading
+from ...projgrid_addon import Camera, foam, frame_plan, shading
 from ...shaders import sky
 from . import bake_record, companions, material_inputs, objects, scene, shot
 from .state import RUNTIME
@@ -122,7 +122,8 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         our_material=our_material(app, surface),
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
-        ahead=not (render or RUNTIME.rendering or RUNTIME.baking))
+        ahead=not (render or RUNTIME.rendering or RUNTIME.baking),
+        winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(the_scene)))
     return Gathered(**base, inputs=inputs, key=key)
 
 
@@ -160,6 +161,19 @@ def our_material(app, surface):
     ocean = app.ocean.data
     source = ocean.materials[0] if ocean is not None and len(ocean.materials) else None
     return source is None or bool(source.get(scene.TAG))
+
+
+def winds_ahead(ocean, frame_now, time, per_frame):
+    """The keyframed wind speed at the starts of the next two FOAM_PERIODs after `time`
+    (foam.ahead's times), for the worker to calibrate the seas of the winds it will reach;
+    () when the wind speed is not keyframed."""
+    curve = next((c for c in scene.bag_curves(ocean) if c.data_path == scene.WIND_PATHS[0]),
+                 None)
+    if curve is None or per_frame <= 0.0:
+        return ()
+    start = np.floor(time / foam.FOAM_PERIOD) * foam.FOAM_PERIOD
+    return tuple(max(float(curve.evaluate(frame_now + (start + k * foam.FOAM_PERIOD - time)
+                                          / per_frame)), 0.0) for k in (1, 2))
 
 
 def wind_samples(ocean, frame_now, s):

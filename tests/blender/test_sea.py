@@ -65,6 +65,30 @@ def test_a_keyed_wind_keeps_its_tiles(sea, bridge):
     assert bridge.scene.wind_span(sea) is None
 
 
+def test_a_keyed_wind_s_coming_seas_are_calibrated_ahead(sea, bridge, extension, monkeypatch):
+    """Under a keyed wind the viewport's frame hands the worker the wind at the coming seconds
+    (read from its curve), and the worker makes the whitecaps' calibrations of those winds'
+    lattice seas too, not only of the seas about the wind now."""
+    foam, s, scene = extension.projgrid_addon.foam, sea.projgrid, bpy.context.scene
+    s.wind_speed = 8.0
+    s.keyframe_insert("wind_speed", frame=1)
+    s.wind_speed = 14.0
+    s.keyframe_insert("wind_speed", frame=73)
+    handed, reserved = [], []
+    calibrate, reserve = bridge.ahead.calibrate, foam.CALIBRATIONS.reserve
+    monkeypatch.setattr(bridge.ahead, "calibrate", lambda *a: (handed.append(a), calibrate(*a)))
+    monkeypatch.setattr(foam.CALIBRATIONS, "reserve", lambda sea_, keys: (
+        reserved.append(sea_.state.wind_speed), reserve(sea_, keys))[1])
+    scene.frame_set(13)  # 0.54 s in: the coming seconds are 1 and 2 (frames 24 and 48)
+    bridge.ahead.finish()
+    curve = next(c for c in bridge.scene.bag_curves(sea) if c.data_path == "projgrid.wind_speed")
+    winds = handed[-1][3]
+    assert winds == pytest.approx((curve.evaluate(24.0), curve.evaluate(48.0)), rel=1e-6)
+    now = {w for w, _ in extension.projgrid_addon.cascade.wind_lattice(handed[-1][2])}
+    later = {w for w, _ in extension.projgrid_addon.cascade.wind_lattice(winds[1])}
+    assert later - now and (later - now) <= set(reserved)  # the winds of second 2's seas
+
+
 def test_the_wind_raises_the_noise_from_wind(bridge, extension):
     """With From Wind (Add Ocean's), the noise's height and wavelength are the wind's sea's
     (sea_states.noise_waves), the wind keyframed too; set by hand, the wind leaves them."""
