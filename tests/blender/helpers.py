@@ -1,5 +1,9 @@
 """Small helpers shared by the Blender tests."""
 
+import os
+import subprocess
+import sys
+import tempfile
 from importlib import import_module
 
 import bpy
@@ -7,13 +11,36 @@ import numpy as np
 
 from tools.demo import MODULE, add_camera
 
-__all__ = ["RenderCapture", "add_camera", "add_ocean", "core", "positions", "workbench"]
+__all__ = ["RenderCapture", "add_camera", "add_ocean", "core", "positions", "without_extension",
+           "workbench"]
 
 
 def positions(mesh):
     co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     mesh.attributes["position"].data.foreach_get("vector", co)
     return co.reshape(-1, 3)
+
+
+# What a `without_extension` script starts with: the saved file opened (sys.argv[1]), no
+# extension of ours loaded; its own arguments follow in sys.argv[2:].
+FRESH = """import sys
+import bpy
+import numpy as np
+bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
+assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
+"""
+
+
+def without_extension(tmp_path, script, *args, timeout=600):
+    """The open file saved as a copy (tmp_path/baked.blend), and FRESH then `script` run on it
+    by a fresh Python with no extension installed (a private user folder), `args` its own
+    arguments; the test fails with the end of its errors if the script does."""
+    blend = str(tmp_path / "baked.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
+    env = {**os.environ, "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="no-extension-")}
+    done = subprocess.run([sys.executable, "-c", FRESH + script, blend, *map(str, args)],
+                          env=env, capture_output=True, text=True, timeout=timeout)
+    assert done.returncode == 0, done.stderr[-2000:]
 
 
 def render_mesh(scene, obj, bridge, frame):

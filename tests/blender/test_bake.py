@@ -2,9 +2,6 @@
 renders where no script runs."""
 
 import os
-import subprocess
-import sys
-import tempfile
 import textwrap
 from types import SimpleNamespace
 
@@ -14,20 +11,15 @@ import pytest
 
 from tools.package import ROOT
 
-from .helpers import RENDER_RES, positions, render_mesh
+from .helpers import RENDER_RES, positions, render_mesh, without_extension
 
 live = render_mesh  # the mesh a render of a frame builds
 
 
-FRESH = textwrap.dedent("""
-    import sys
-    import bpy
-    import numpy as np
-    blend, out, root = sys.argv[1:4]
+SEEN = textwrap.dedent("""
+    out, root = sys.argv[2:4]
     sys.path.insert(0, root)
     from tests.blender.helpers import positions
-    bpy.ops.wm.open_mainfile(filepath=blend)
-    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
     scene, seen = bpy.context.scene, {}
     ocean = bpy.data.objects["Ocean"]
     for frame in (1, 2, 3):
@@ -51,13 +43,8 @@ def test_a_baked_ocean_plays_its_frames_without_the_extension(moving, bridge, tm
     assert not [f for f in os.listdir(tmp_path) if "partial" in f]
     assert scene.frame_start == 1 and scene.frame_end == 3  # the scene as it was
     assert not [m for m in obj.modifiers if m.type == "NODES"]  # the exporter's timer gone
-    blend = str(tmp_path / "baked.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
     out = str(tmp_path / "seen.npz")
-    env = {**os.environ, "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="no-extension-")}
-    done = subprocess.run([sys.executable, "-c", FRESH, blend, out, ROOT], env=env,
-                          capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stderr[-2000:]
+    without_extension(tmp_path, SEEN, out, ROOT)
     seen = np.load(out)
     assert {"projgrid_foam", "projgrid_lod", "ProjectorUV"} <= set(seen["names"])
     for f in (1, 2, 3):
@@ -248,12 +235,8 @@ def test_the_interface_bakes_frame_by_frame_and_esc_cancels(moving, bridge, exte
     assert op.status[-1] is None and not op.timers
 
 
-RENDER_FRESH = textwrap.dedent("""
-    import sys
-    import bpy
-    blend, frame, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
-    bpy.ops.wm.open_mainfile(filepath=blend)
-    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
+RENDERED = textwrap.dedent("""
+    frame, out = int(sys.argv[2]), sys.argv[3]
     scene = bpy.context.scene
     scene.frame_set(frame)
     scene.render.filepath = out
@@ -292,13 +275,8 @@ def test_a_baked_frame_renders_as_the_live_one_without_the_extension(tmp_path):
                                  frame_end=3) == {"FINISHED"}
     slopes = sorted(os.listdir(tmp_path / "sea_slopes"))
     assert len(slopes) == 3 * 3 and slopes[0] == "band1_0001.exr"  # three bands, three frames
-    blend = str(tmp_path / "baked.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
-    env = {**os.environ, "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="no-extension-")}
     baked = str(tmp_path / "baked.png")
-    done = subprocess.run([sys.executable, "-c", RENDER_FRESH, blend, "2", baked], env=env,
-                          capture_output=True, text=True, timeout=900)
-    assert done.returncode == 0, done.stderr[-2000:]
+    without_extension(tmp_path, RENDERED, 2, baked, timeout=900)
     diff = np.abs(read(baked) - read(live["AUTO"]))
     outliers = float((diff.max(axis=-1) > OUTLIER_TOL).mean())
     assert diff.mean() <= MEAN_TOL and outliers <= OUTLIER_SHARE, (diff.mean(), outliers)

@@ -1,24 +1,15 @@
 """The bake holds the spray (issue 36): a gale's puffs written with its sea into the USD cache,
 played by the spray's companion where no script runs (a baked storm's render: test_bake.py)."""
 
-import os
-import subprocess
-import sys
-import tempfile
 import textwrap
 
 import bpy
 import numpy as np
 
-from .helpers import positions
+from .helpers import positions, without_extension
 
-SPRAY_FRESH = textwrap.dedent("""
-    import sys
-    import bpy
-    import numpy as np
-    blend, out = sys.argv[1:3]
-    bpy.ops.wm.open_mainfile(filepath=blend)
-    assert not [m for m in sys.modules if "projected_grid_ocean" in m]  # no extension
+SPRAY_SEEN = textwrap.dedent("""
+    out = sys.argv[2]
     scene, seen = bpy.context.scene, {}
     cloud = bpy.data.objects["Ocean Spray"]
     for frame in (1, 2, 3):
@@ -69,13 +60,8 @@ def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, tmp_
         assert len(want[f][0]) > 100, f
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=3) == {"FINISHED"}
-    blend = str(tmp_path / "baked.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend, copy=True)
     out = str(tmp_path / "seen.npz")
-    env = {**os.environ, "BLENDER_USER_RESOURCES": tempfile.mkdtemp(prefix="no-extension-")}
-    done = subprocess.run([sys.executable, "-c", SPRAY_FRESH, blend, out], env=env,
-                          capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stderr[-2000:]
+    without_extension(tmp_path, SPRAY_SEEN, out)
     seen = np.load(out)
     for f in (1, 3):
         at, radius, opacity = want[f]
