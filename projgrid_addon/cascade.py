@@ -144,8 +144,6 @@ def _cell_energy(size, angle, shortest, longest, state, texels, part):
     inside the band's ring (a tenth of the lattice). Kept: a keyed wind's frames share the
     lattice winds'."""
     nx, ny, _ = _lattice(texels)
-    dk = 2.0 * np.pi / size
-    c, s = np.cos(angle), np.sin(angle)
     lo, hi = size / longest, size / shortest  # band edges in lattice units
     sub = (np.arange(4) + 0.5) / 4.0 - 0.5
     energy = np.zeros(nx.shape)
@@ -153,11 +151,17 @@ def _cell_energy(size, angle, shortest, longest, state, texels, part):
         for b in sub:
             n = np.hypot(nx + a, ny + b)
             inside = (n >= lo) & (n < hi)
-            ax, ay = nx[inside] + a, ny[inside] + b
             energy[inside] += spectrum.wavenumber_spectrum(
-                (c * ax - s * ay) * dk, (s * ax + c * ay) * dk, state, part)
+                *_on_sea(nx[inside] + a, ny[inside] + b, size, angle), state, part)
     energy.setflags(write=False)
     return energy
+
+
+def _on_sea(ax, ay, size, angle):
+    """The wave vectors (kx, ky) on the sea of lattice points (ax, ay) of a tile `size` m
+    across turned by `angle`."""
+    dk, c, s = 2.0 * np.pi / size, np.cos(angle), np.sin(angle)
+    return (c * ax - s * ay) * dk, (s * ax + c * ay) * dk
 
 
 @lru_cache(maxsize=8)
@@ -184,10 +188,6 @@ class Cascade:
         self.turn = (np.cos(angle), np.sin(angle))
         nx, ny, neg = _lattice(texels)
         dk = 2.0 * np.pi / self.size
-        c, s = self.turn
-
-        def world(ax, ay):  # a tile lattice wave vector, turned onto the sea
-            return (c * ax - s * ay) * dk, (s * ax + c * ay) * dk
         cell = (self.size, float(angle), float(shortest), float(longest))
         if keyed:  # the amplitudes interpolated: the waves are, their phases shared
             energy = sum(weight * np.sqrt(_cell_energy(*cell, replace(
@@ -204,7 +204,7 @@ class Cascade:
         # lattice with nx >= 0 by a real inverse transform (no band reaches the Nyquist row).
         half = slice(0, texels // 2 + 1)
         self._h0, self._h0_neg_conj = self.h0[:, half], self.h0_neg_conj[:, half]
-        self.kx, self.ky = world(nx[:, half], ny[:, half])
+        self.kx, self.ky = _on_sea(nx[:, half], ny[:, half], self.size, float(angle))
         k = np.hypot(self.kx, self.ky)
         self.omega = np.sqrt(spectrum.GRAVITY * k)
         safe = np.where(k > 0.0, k, 1.0)

@@ -112,6 +112,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
+    ahead = not (render or RUNTIME.rendering or RUNTIME.baking)
     inputs = frame_plan.FrameInputs(
         settings=s, render=render, resolution=resolution, camera=(cam.view, cam.proj),
         world=world, to_local=to_local, time=t, frame=frame_now,
@@ -122,8 +123,8 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         our_material=our_material(app, surface),
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
-        ahead=not (render or RUNTIME.rendering or RUNTIME.baking),
-        winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(the_scene)))
+        ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(
+            the_scene)) if ahead else ())
     return Gathered(**base, inputs=inputs, key=key)
 
 
@@ -167,8 +168,7 @@ def winds_ahead(ocean, frame_now, time, per_frame):
     """The keyframed wind speed at the starts of the next two FOAM_PERIODs after `time`
     (foam.ahead's times), for the worker to calibrate the seas of the winds it will reach;
     () when the wind speed is not keyframed."""
-    curve = next((c for c in scene.bag_curves(ocean) if c.data_path == scene.WIND_PATHS[0]),
-                 None)
+    curve = scene.wind_curves(ocean).get(scene.WIND_PATHS[0])
     if curve is None or per_frame <= 0.0:
         return ()
     start = np.floor(time / foam.FOAM_PERIOD) * foam.FOAM_PERIOD
@@ -179,7 +179,7 @@ def winds_ahead(ocean, frame_now, time, per_frame):
 def wind_samples(ocean, frame_now, s):
     """(frames, speeds, directions) of the ocean's keyframed wind at each frame from 0 to now
     (frame_plan.gust_drift integrates its run), or None when neither is keyframed."""
-    curves = {c.data_path: c for c in scene.bag_curves(ocean) if c.data_path in scene.WIND_PATHS}
+    curves = scene.wind_curves(ocean)
     if not curves:
         return None
     frames = np.append(np.arange(0.0, frame_now, 1.0 if frame_now >= 0 else -1.0), frame_now)

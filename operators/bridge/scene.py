@@ -71,13 +71,18 @@ def wind_span(ocean):
     None when it is not keyframed: the spectral sea lays its tiles out for the whole span, so a
     wind that builds changes the waves' heights smoothly, not their tiles (a pure function of
     the scene, not of the frame)."""
-    curve = next((c for c in bag_curves(ocean) if c.data_path == WIND_PATHS[0]), None)
+    curve = wind_curves(ocean).get(WIND_PATHS[0])
     if curve is None or not len(curve.keyframe_points):
         return None
     start, end = curve.range()
     frames = np.linspace(start, end, max(int(end - start) + 1, 2))
     speeds = [max(curve.evaluate(f), 0.0) for f in frames]
     return (round(float(min(speeds)), 6), round(float(max(speeds)), 6))
+
+
+def wind_curves(ocean):
+    """{data path: F-curve} of the ocean's keyframed wind speed and direction (WIND_PATHS)."""
+    return {c.data_path: c for c in bag_curves(ocean) if c.data_path in WIND_PATHS}
 
 
 def bag_curves(tree):
