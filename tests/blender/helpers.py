@@ -11,8 +11,8 @@ import numpy as np
 
 from tools.demo import MODULE, add_camera
 
-__all__ = ["RenderCapture", "add_camera", "add_ocean", "core", "positions", "without_extension",
-           "workbench"]
+__all__ = ["RenderCapture", "add_camera", "add_ocean", "core", "positions",
+           "seen_without_extension", "without_extension", "workbench"]
 
 
 def positions(mesh):
@@ -41,6 +41,14 @@ def without_extension(tmp_path, script, *args, timeout=600):
     done = subprocess.run([sys.executable, "-c", FRESH + script, blend, *map(str, args)],
                           env=env, capture_output=True, text=True, timeout=timeout)
     assert done.returncode == 0, done.stderr[-2000:]
+
+
+def seen_without_extension(tmp_path, script, *args):
+    """`without_extension` of a script that saves what it saw in the file named by its first
+    argument (tmp_path/seen.npz, then `args`): those arrays."""
+    out = tmp_path / "seen.npz"
+    without_extension(tmp_path, script, out, *args)
+    return np.load(out)
 
 
 def render_mesh(scene, obj, bridge, frame):

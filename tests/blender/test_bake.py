@@ -11,7 +11,7 @@ import pytest
 
 from tools.package import ROOT
 
-from .helpers import RENDER_RES, positions, render_mesh, without_extension
+from .helpers import RENDER_RES, positions, render_mesh, seen_without_extension, without_extension
 
 live = render_mesh  # the mesh a render of a frame builds
 
@@ -43,9 +43,7 @@ def test_a_baked_ocean_plays_its_frames_without_the_extension(moving, bridge, tm
     assert not [f for f in os.listdir(tmp_path) if "partial" in f]
     assert scene.frame_start == 1 and scene.frame_end == 3  # the scene as it was
     assert not [m for m in obj.modifiers if m.type == "NODES"]  # the exporter's timer gone
-    out = str(tmp_path / "seen.npz")
-    without_extension(tmp_path, SEEN, out, ROOT)
-    seen = np.load(out)
+    seen = seen_without_extension(tmp_path, SEEN, ROOT)
     assert {"projgrid_foam", "projgrid_lod", "ProjectorUV"} <= set(seen["names"])
     for f in (1, 2, 3):
         assert seen[str(f)].shape == want[f].shape == (RENDER_RES[0] * RENDER_RES[1], 3)

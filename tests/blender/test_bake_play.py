@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 import pytest
 
-from .helpers import RENDER_RES, positions, render_mesh, without_extension
+from .helpers import RENDER_RES, positions, render_mesh, seen_without_extension
 
 live = render_mesh  # the mesh a render of a frame builds
 
@@ -180,9 +180,7 @@ def test_the_companions_under_the_water_play_their_bake(moving, bridge, tmp_path
     scene.frame_set(1)
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=2) == {"FINISHED"}
-    out = str(tmp_path / "seen.npz")
-    without_extension(tmp_path, COMPANIONS_SEEN, out)
-    seen = np.load(out)
+    seen = seen_without_extension(tmp_path, COMPANIONS_SEEN)
     for f in (1, 2):
         assert np.allclose(seen[str(f)], want[f], atol=1e-5), (f, seen[str(f)], want[f])
         saved = bpy.data.images.load(str(tmp_path / "sea_slopes" / f"godrays_{f:04d}.exr"))

@@ -6,7 +6,7 @@ import textwrap
 import bpy
 import numpy as np
 
-from .helpers import positions, without_extension
+from .helpers import positions, seen_without_extension
 
 SPRAY_SEEN = textwrap.dedent("""
     out = sys.argv[2]
@@ -60,9 +60,7 @@ def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, tmp_
         assert len(want[f][0]) > 100, f
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=3) == {"FINISHED"}
-    out = str(tmp_path / "seen.npz")
-    without_extension(tmp_path, SPRAY_SEEN, out)
-    seen = np.load(out)
+    seen = seen_without_extension(tmp_path, SPRAY_SEEN)
     for f in (1, 3):
         at, radius, opacity = want[f]
         assert seen[f"shown{f}"] and seen[f"at{f}"].shape == at.shape, f
