@@ -52,6 +52,7 @@ from ..projgrid_addon.look import (
     FOAM_LACE_CHURN,
     FOAM_NET,
     FOAM_ROUGHNESS,
+    FOAM_SHEEN,
     FOAM_STREAK,
     FOAM_WARP,
     GUST_DETAIL,
@@ -71,7 +72,7 @@ SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 32  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 33  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -258,14 +259,10 @@ def _build(group):
         k: model.bubble_albedo(g, c, brightest) for k, c in zip("XYZ", water_rgb, strict=True)})
     g.set(colour.inputs["Color"], g.vector("ADD", albedo, g.vector(
         "SCALE", g.vector("SUBTRACT", bubbles.outputs[0], albedo), Scale=plume)))
-    # Foam scatters like the white of its bubbles and shines forward like their films: a
-    # diffuse cover with a broad specular sheen, so it stays white in the sun's glitter path.
-    cover = g.node("ShaderNodeAddShader", {
-        0: g.node("ShaderNodeBsdfDiffuse", {
-            "Color": g.vector("SCALE", i["Foam Colour"], Scale=brightness),
-            "Normal": normal}).outputs[0],
-        1: g.node("ShaderNodeBsdfGlossy", {"Color": (0.25, 0.25, 0.25, 1.0), "Roughness": 0.6,
-                                           "Normal": normal}).outputs[0]})
+    # Foam scatters like the white of its bubbles, its films' sheen included (FOAM_SHEEN).
+    cover = g.node("ShaderNodeBsdfDiffuse", {
+        "Color": g.vector("SCALE", g.vector("ADD", i["Foam Colour"], (FOAM_SHEEN,) * 3),
+                          Scale=brightness), "Normal": normal})
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
                                                2: cover.outputs[0]})
     with_foam.name = "Foam"

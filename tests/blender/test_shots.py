@@ -346,3 +346,29 @@ def test_cycles_gives_a_sensible_image(tmp_path):
     assert sky.mean() > water[-10:].mean() + 0.1
     assert 0.05 < water.mean() < 0.9
     assert water[:10].mean() > water[-10:].mean()
+
+
+def test_the_picture_is_linear_in_the_foam(tmp_path):
+    """The Foam mix's factor at c everywhere covers c of the sea in linear light (the render's
+    own values), however small c: how far the picture went from the one without foam toward
+    the one all foam. The far sea's foam is a small share everywhere, and Monahan's share is
+    an area share (tools/beaufort.py measures the picture so)."""
+    from tools.beaufort import render
+
+    scene = bpy.context.scene
+    default_shot(scene, size=(120, 68), samples=2, height=40.0, pitch=-12.0)
+    bpy.ops.projgrid.sea_state(beaufort=4)
+    scene.frame_set(24)
+    group = bpy.data.objects["Ocean"].data.materials[0].node_tree.nodes[
+        "Projected Grid Water"].node_tree
+    factor = group.nodes["Foam"].inputs[0]
+    group.links.remove(factor.links[0])
+    linear = {}
+    for c in (0.0, 1.0, 0.002):
+        factor.default_value = c
+        linear[c] = render(scene, str(tmp_path / f"foam_{c}.png"))[1]
+    gain = linear[1.0] - linear[0.0]
+    sea = gain > 0.05 * gain.max()
+    assert sea.mean() > 0.5
+    cover = ((linear[0.002] - linear[0.0])[sea] / gain[sea]).mean()
+    assert cover == pytest.approx(0.002, rel=0.2)

@@ -132,8 +132,8 @@ def test_the_tree_computes_the_model(water):
         assert ev.input(foam) == pytest.approx(drawn, rel=1e-5, abs=1e-6)
         assert ev.input(body) == pytest.approx(
             water_albedo + (bubbles - water_albedo) * plume, rel=1e-5)
-        assert ev.input(foam_colour) == pytest.approx(values["Foam Colour"] * brightness,
-                                                      rel=1e-5)
+        assert ev.input(foam_colour) == pytest.approx(
+            (values["Foam Colour"] + look.FOAM_SHEEN) * brightness, rel=1e-5)
         exact = model.fresnel(NUMPY, flat["IOR"], c, 0.0)
         assert ev.input(fresnel) == pytest.approx(
             model.mean_fresnel(NUMPY, exact, c, slopes, 0.0), rel=1e-5)
