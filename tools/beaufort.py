@@ -1,7 +1,8 @@
 """The Beaufort pictures and the rendered white share per force: each force's preset from 5 m
-and from 40 m up (EEVEE, frame 48, the wind blowing away from the camera 30 degrees to the
-right of the view, so its streaks run toward a vanishing point, as in photographs taken
-downwind; across the view they lie along the foreshortened crests), written to docs/ as
+and from 40 m up, and straight down from 80 m (EEVEE, frame 48, the wind blowing away from the
+camera 30 degrees to the right of the view, so its streaks run toward a vanishing point, as in
+photographs taken downwind; across the view they lie along the foreshortened crests; seen from
+above, the white share as a photograph taken straight down measures it), written to docs/ as
 beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
 Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
@@ -24,7 +25,7 @@ import sys
 import tempfile
 
 FORCES = (2, 4, 6, 8, 10)
-HEIGHTS = {5.0: -4.0, 40.0: -12.0}  # camera height m: pitch deg
+HEIGHTS = {5.0: -4.0, 40.0: -12.0, 80.0: -90.0}  # camera height m: pitch deg
 WIND = 60.0  # deg counter-clockwise from +X, where the wind blows toward (the camera looks +Y)
 FRAME = 48
 # The white share is averaged over these frames (the picture is FRAME's): one frame's view
@@ -146,7 +147,7 @@ def shoot(out, quick=False):
                                           streaks.blown_coverage(u) > 0.0))
                 if frame == FRAME:
                     os.replace(os.path.join(work, f"{frame}_{name}"), os.path.join(out, name))
-            rows.append({"force": force, "height": height,
+            rows.append({"force": force, "height": height, "pitch": pitch,
                          **{k: float(np.mean([f[k] for f in shares])) for k in shares[0]},
                          "frames": shares, "monahan": effects.whitecap_coverage(u),
                          "blown": streaks.blown_coverage(u), "path": name})

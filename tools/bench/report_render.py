@@ -278,7 +278,9 @@ def _pictures(report):
 def _beaufort(report):
     """§12: every force as the picture shows it, and the share of the sea its whitecaps cover
     against Monahan's."""
-    rows = [{**r, "view": f"{r['height']:.0f} m"} for r in report.results["beaufort"]]
+    rows = [{**r, "view": f"{r['height']:.0f} m" + (", straight down" if r.get("pitch") == -90.0
+                                                   else "")}
+            for r in report.results["beaufort"]]
     for r in rows:
         r["ratio"] = r["whitecaps_area"] / r["monahan"] if r["monahan"] > 0 else 0.0
         r["looks"] = r["whitecaps"] / r["monahan"] if r["monahan"] > 0 else 0.0
@@ -297,13 +299,14 @@ def _beaufort(report):
         low, high = min(foamed), max(foamed)
         report.targets.append(Target(
             "Rendered whitecaps' share of the sea 0.5-2× Monahan's, forces 4-10, from 5 m "
-            "and 40 m", f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
+            "and 40 m and straight down", f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
             "**Whitecaps' share.** A view holds few breakers, and the foam is placed on the "
             "breaking crests: the mean of three frames still swings with a cluster of them "
             "near the camera (each frame's share is in benchmarks.json)."))
     report.md += [
         "## 12. The Beaufort forces: the white share in the picture", "",
-        "Each force's preset from 5 m (4° down) and 40 m (12° down), the picture frame 48, "
+        "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from 80 m, "
+        "the picture frame 48, "
         "the shares the mean of frames 48, 96 and 144, the wind blowing away 30° right of the "
         "view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
         "goes from the picture with the foam muted toward the one with foam everywhere. In "
