@@ -1,5 +1,5 @@
 """The Beaufort pictures and the rendered white share per force: each force's preset from 5 m
-and from 40 m up, and straight down from 80 m (EEVEE, frame 48, the wind blowing away from the
+and from 40 m up, and straight down from 300 m (EEVEE, frame 48, the wind blowing away from the
 camera 30 degrees to the right of the view, so its streaks run toward a vanishing point, as in
 photographs taken downwind; across the view they lie along the foreshortened crests; seen from
 above, the white share as a photograph taken straight down measures it), written to docs/ as
@@ -25,7 +25,7 @@ import sys
 import tempfile
 
 FORCES = (2, 4, 6, 8, 10)
-HEIGHTS = {5.0: -4.0, 40.0: -12.0, 80.0: -90.0}  # camera height m: pitch deg
+HEIGHTS = {5.0: -4.0, 40.0: -12.0, 300.0: -90.0}  # camera height m: pitch deg
 WIND = 60.0  # deg counter-clockwise from +X, where the wind blows toward (the camera looks +Y)
 FRAME = 48
 # The white share is averaged over these frames (the picture is FRAME's): one frame's view

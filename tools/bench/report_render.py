@@ -305,7 +305,8 @@ def _beaufort(report):
             "near the camera (each frame's share is in benchmarks.json)."))
     report.md += [
         "## 12. The Beaufort forces: the white share in the picture", "",
-        "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from 80 m, "
+        "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from "
+        "300 m (a view some 380 m across: a smaller one holds too few of the streaks), "
         "the picture frame 48, "
         "the shares the mean of frames 48, 96 and 144, the wind blowing away 30° right of the "
         "view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
