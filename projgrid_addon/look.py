@@ -64,9 +64,10 @@ DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
 # of this) pi in luminance, so a grey card of 0.18 reads as the view's middle grey (0.18).
 OVERCAST_ZENITH = (1.23, 1.29, 1.39)
 FOAM_COLOUR = (0.7, 0.7, 0.7)  # the diffuse white of the foam's bubbles
-# The broad sheen of the bubbles' films, added to the foam's diffuse colour: drawn as a glossy
-# closure of its own, EEVEE combines it with the water's reflection, which then changes
-# wherever there is any foam at all (0.2 % of foam read as 0.6 % in the picture).
+# The sheen of the bubbles' films, added to the foam's diffuse colour (to white at most): the
+# foam is one diffuse closure, so the picture is linear in its share (EEVEE merges closures of
+# one kind: a glossy of the foam's own would change the water's reflection wherever any foam
+# is; tests/blender/test_shots.py).
 FOAM_SHEEN = 0.25
 # Residual foam (stage B) against active: it reflects less as its bubbles thin (Koepke 1984:
 # 0.22 over a whitecap's life against ~0.5 fresh); drawn much dimmer it reads as grey haze.

@@ -259,10 +259,13 @@ def _build(group):
         k: model.bubble_albedo(g, c, brightest) for k, c in zip("XYZ", water_rgb, strict=True)})
     g.set(colour.inputs["Color"], g.vector("ADD", albedo, g.vector(
         "SCALE", g.vector("SUBTRACT", bubbles.outputs[0], albedo), Scale=plume)))
-    # Foam scatters like the white of its bubbles, its films' sheen included (FOAM_SHEEN).
+    # Foam scatters like the white of its bubbles, its films' sheen included (FOAM_SHEEN, to
+    # white at most): one diffuse closure on the water body's normal, so the picture is linear
+    # in the foam's share (EEVEE merges closures of one kind).
     cover = g.node("ShaderNodeBsdfDiffuse", {
-        "Color": g.vector("SCALE", g.vector("ADD", i["Foam Colour"], (FOAM_SHEEN,) * 3),
-                          Scale=brightness), "Normal": normal})
+        "Color": g.vector("SCALE", g.vector("MINIMUM", g.vector(
+            "ADD", i["Foam Colour"], (FOAM_SHEEN,) * 3), (1.0, 1.0, 1.0)), Scale=brightness),
+        "Normal": normal})
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
                                                2: cover.outputs[0]})
     with_foam.name = "Foam"

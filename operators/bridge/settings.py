@@ -166,7 +166,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
     foam_colour: FloatVectorProperty(
         name="Foam Colour", subtype="COLOR", size=3, min=0.0, max=1.0,
         default=look.FOAM_COLOUR, update=_settings_changed, override=OVERRIDABLE,
-        description="The diffuse colour of the foam's bubbles")
+        description="The diffuse colour of the foam's bubbles (the sheen of their films adds "
+        "a quarter, to white at most)")
     foam: _mode("foam", "Foam on wave crests, its coverage set by the wind")
     contact_foam: _mode("contact_foam", "Foam where objects cross the water surface")
     underwater: _mode("underwater", "Snell's window and absorption fog with the camera below "

@@ -278,8 +278,8 @@ def _pictures(report):
 def _beaufort(report):
     """§12: every force as the picture shows it, and the share of the sea its whitecaps cover
     against Monahan's."""
-    rows = [{**r, "view": f"{r['height']:.0f} m" + (", straight down" if r.get("pitch") == -90.0
-                                                   else "")}
+    down = {-90.0: ", straight down"}
+    rows = [{**r, "view": f"{r['height']:.0f} m{down.get(r.get('pitch'), '')}"}
             for r in report.results["beaufort"]]
     for r in rows:
         r["ratio"] = r["whitecaps_area"] / r["monahan"] if r["monahan"] > 0 else 0.0
@@ -294,8 +294,7 @@ def _beaufort(report):
                           ("whitecaps look white / Monahan", "looks", ".2f"),
                           ("blown streaks' share", "blown", ".2%")])
     pictures = [f"![Beaufort {r['force']} from {r['view']}]({r['path']})" for r in rows]
-    foamed = [r["ratio"] for r in rows if r["force"] >= 4]
-    if foamed:
+    if foamed := [r["ratio"] for r in rows if r["force"] >= 4]:
         low, high = min(foamed), max(foamed)
         report.targets.append(Target(
             "Rendered whitecaps' share of the sea 0.5-2× Monahan's, forces 4-10, from 5 m "
@@ -305,22 +304,21 @@ def _beaufort(report):
             "near the camera (each frame's share is in benchmarks.json)."))
     report.md += [
         "## 12. The Beaufort forces: the white share in the picture", "",
-        "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from "
-        "300 m (a view some 380 m across: a smaller one holds too few of the streaks), "
-        "the picture frame 48, "
-        "the shares the mean of frames 48, 96 and 144, the wind blowing away 30° right of the "
-        "view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is how far it "
-        "goes from the picture with the foam muted toward the one with foam everywhere. In "
-        "linear light (the render's values before the view transform) that is the share of "
-        "the pixel's area the foam covers, and its mean over the sea's pixels the share of "
-        "the sea the picture shows covered (*area*), which is what Monahan and "
+        "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from 300 m "
+        "(a view some 310 m across: a smaller one holds too few of the streaks), the picture "
+        "frame 48, the shares the mean of frames 48, 96 and 144, the wind blowing away 30° "
+        "right of the view (EEVEE, 16 samples; `tools/beaufort.py`). A pixel's foam cover is "
+        "how far it goes from the picture with the foam muted toward the one with foam "
+        "everywhere. In linear light (the render's values before the view transform) that is "
+        "the share of the pixel's area the foam covers, and its mean over the sea's pixels the "
+        "share of the sea the picture shows covered (*area*), which is what Monahan and "
         "O'Muircheartaigh's 1.59e-5 U^2.55 measures, of the whitecaps and their foam: "
-        "*whitecaps' area* is that of a render without the wind's blown streaks (from "
-        "Beaufort 7: none up to 13.9 m/s, the sea white at 40 m/s; *blown streaks' share*, "
+        "*whitecaps' area* is that of a render without the wind's blown streaks (from Beaufort "
+        "7: none up to 13.9 m/s, the sea white at 40 m/s; *blown streaks' share*, "
         "`streaks.blown_coverage`). In display values partial cover reads larger (a pixel a "
-        "tenth covered reads as about a fifth): *looks white* is the share of the sea's "
-        "pixels over half covered there, as the eye reads the picture. Three frames of one "
-        "view, so a few breakers more or less move it.", "", table, "", *pictures, ""]
+        "tenth covered reads as about a fifth): *looks white* is the share of the sea's pixels "
+        "over half covered there, as the eye reads the picture. Three frames of one view, so a "
+        "few breakers more or less move it.", "", table, "", *pictures, ""]
 
 
 def _memory(report):
