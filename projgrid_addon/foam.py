@@ -52,8 +52,10 @@ def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     (`foam_levels`): on a fixed pattern of sea points, the mean foam is `coverage` at the
     band limit they are evaluated with, so a vertex's foam covers the wind's share of the sea
     whatever detail its geometry holds (Jensen and Golias put foam where the surface is high
-    or folds; Monahan and Mac Niocaill give how much). Returns (levels, thresholds, widths):
-    each the width of the ramp the foam rises over (`whitecaps`).
+    or folds; Monahan and Mac Niocaill give how much). Above the whitecaps' level
+    (`whitecap_level`) the cue is of the waves it keeps, over the finer spacing (a fine grid's
+    differences see more of their folding). Returns (levels, thresholds, widths): each the
+    width of the ramp the foam rises over (`whitecaps`).
 
     The sources' statistics drift with time (the noise's octaves move through their lattices;
     the spectrum's tiles hold finitely many waves, whose rare folds come and go: one threshold
@@ -147,9 +149,9 @@ def calibration(source, time, coverage, samples):
     x, y = sea_sample(source.foam_span, samples)
     xy = np.stack([x, y])
     levels = np.asarray(source.foam_levels(), dtype=np.float64)
-    cues = [source.foam_cue(xy, time, np.full(x.shape, level, np.float32)) for level in levels]
-    spreads = np.array([float(cue.std()) for cue in cues])
     placed = whitecap_level(source)
+    cues = [crest_cue(source, xy, time, np.full(x.shape, level, np.float32)) for level in levels]
+    spreads = np.array([float(cue.std()) for cue in cues])
     whole = float(np.interp(placed, levels, spreads))
     widths = _ramp_widths(spreads, whole)
     thresholds = []
@@ -170,6 +172,13 @@ def whitecap_level(source):
     is the shader's grain."""
     levels = source.foam_levels()
     return float(np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1]))
+
+
+def crest_cue(source, xy, time, lod):
+    """The whitecaps' cue at points `xy` apart of band limit `lod` (None: every band whole), as
+    a frame's vertices take it (`foam_field`): finer than `whitecap_level`, of the waves it
+    keeps alone over the points' own spacing (seeing more of their folding than its)."""
+    return source.foam_cue(xy, time, lod, band=whitecap_level(source))
 
 
 def _ramp_widths(spreads, placed):
@@ -372,11 +381,12 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         placed, thresholds = crest_calibration(source, time, wind_speed)
         # Some vertex finer: the cue without the shorter waves, sampled again at every other
         # point each way over the whole grid (so a band limit one lower everywhere, the far
-        # rows' too, where the grid's own cue would do).
+        # rows' too, where the grid's own cue would do), its thresholds those of the waves
+        # `placed` keeps over the spacing the points have (foam_thresholds).
         if lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
-                residual_foam.cue_at(source, points, time, at), at, thresholds),
-                xy, lods, 1, placed)
+                residual_foam.cue_at(source, points, time, np.minimum(at, placed)), at,
+                thresholds), xy, lods, 1)
         else:
             foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
         residual = residual_foam.residual(

@@ -111,10 +111,12 @@ class HeightField:
         """The band limits at which the foam is calibrated: octave i is whole from lod i + 1."""
         return np.arange(self.octaves + 1, dtype=np.float64)
 
-    def foam_cue(self, xy, t, lod=None, grid=None):
-        """Where whitecaps form on the noise: the highest crests (Jensen and Golias). `grid`,
-        the displaced grid the spectrum's cue is taken from, is not needed."""
-        return self.heights_xy(xy, t, lod)
+    def foam_cue(self, xy, t, lod=None, grid=None, band=None):
+        """Where whitecaps form on the noise: the highest crests (Jensen and Golias), of the
+        octaves `band` keeps if lower than `lod`. `grid`, the displaced grid the spectrum's cue
+        is taken from, is not needed."""
+        return self.heights_xy(xy, t, lod if band is None else band if lod is None else
+                               np.minimum(lod, band))
 
     def shader_octaves(self, lod):
         """(first, count): the octaves some vertex left out, in part or whole (§3.2)."""

@@ -163,7 +163,8 @@ def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None
     calibrates, so no past second is calibrated again: the sum over the window is what the
     coverage sets). Each sample's cue is kept for the grid (PAST) under `grid`, bytes that name
     it (None: a digest of the points and their band limit); `placed` the share of the
-    window's foam left at the points (the rest is drawn as streaks).
+    window's foam left at the points (the rest is drawn as streaks); `top` the band limit
+    the cue's waves are taken at, at most (its thresholds still the points' own level's).
 
     The past cue is taken on a coarser grid (`on_coarse`, COARSE steps: a sixteenth of the
     points) and the foam spread linearly between: a patch is metres across, wider than the
@@ -173,12 +174,13 @@ def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None
         key = grid if grid is not None else hashlib.sha1(
             points.tobytes() + np.asarray(at, np.float32).tobytes()).digest()
         foam_of = active(at)
+        band = at if top is None else np.minimum(at, np.float32(top))
         out = np.zeros(points.shape[1:], np.float32)
         past = samples(time, tau)
         cues = PAST.get(source, [(key, when) for when, _ in past],
-                        lambda missing: cue_at(source, points, tuple(w for _, w in missing), at))
+                        lambda missing: cue_at(source, points, tuple(w for _, w in missing), band))
         for cue, (_, weight) in zip(cues, past, strict=True):
             out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
         return out
-    full = on_coarse(make, xy, lod, COARSE, top)
+    full = on_coarse(make, xy, lod, COARSE)
     return np.minimum(full, 1.0, out=full)

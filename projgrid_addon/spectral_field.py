@@ -6,25 +6,24 @@ A tile repeats, and where a band holds much of the sea's energy its repetition w
 surface's autocorrelation at the tile's period is the tile's share of the variance), so such a
 band's energy is shared among several tiles of sizes that are not multiples of each other
 (cascade.TILE_RATIOS), each turned by its own angle and with its own phases: no tile holds more
-than SHARE_PER_TILE of the variance. Where two tiles' lattices nearly meet within a few
-kilometres they would repeat together; each tile is read through a slow warp of its own
-(warp.py), which spreads such a joint repeat over metres.
+than SHARE_PER_TILE of the variance. Where two tiles' lattices nearly meet within a few kilometres
+they would repeat together; each tile is read through a slow warp of its own (warp.py), which
+spreads such a joint repeat over metres.
 
 A swell's core (spectrum.in_swell_core: near its peak, within a few degrees of its heading) has
-tiles of its own, band-limited along its headings (band_limit.along_waves): the grid's rows,
-tens of metres deep a few hundred metres out, cannot hold a wave heading toward the camera,
-but one crossing the view they can, and the swell is the sea's longest and straightest waves.
-The core is not displaced sideways: a swell's steepness, a few hundredths, sharpens no crest a
-picture shows, and swells do not break, so it adds nothing to the foam's folding.
+tiles of its own, band-limited along its headings (band_limit.along_waves): the grid's rows, tens
+of metres deep a few hundred metres out, cannot hold a wave heading toward the camera, but one
+crossing the view they can, and the swell is the sea's longest and straightest waves. The core is
+not displaced sideways: a swell's steepness, a few hundredths, sharpens no crest a picture shows,
+and swells do not break, so it adds nothing to the foam's folding.
 
 The choppy displacement moves points toward the crests, D(x) = sum of i lambda (k / |k|) h
-e^(i k.x) (Tessendorf §4.4, with the sign that sharpens the crests), and the surface folds
-where its Jacobian, (1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue.
-The Jacobian is taken as the mesh shows it, by differences between neighbouring vertices
-(`jacobian`).
+e^(i k.x) (Tessendorf §4.4, with the sign that sharpens the crests), and the surface folds where
+its Jacobian, (1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue. The
+Jacobian is taken as the mesh shows it, by differences between neighbouring vertices (`jacobian`).
 
-A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the
-seed alone, so frame N is the same computed alone or after 1..N-1, on any machine.
+A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the seed
+alone, so frame N is the same computed alone or after 1..N-1, on any machine.
 """
 
 import copy
@@ -158,10 +157,10 @@ class SpectralField:
         levels = sorted({float(level + f) for level in self.levels for f in FOAM_STEPS})
         return levels or [0.0]
 
-    def foam_cue(self, xy, t, lod=None, grid=None):
+    def foam_cue(self, xy, t, lod=None, grid=None, band=None):
         """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
         lowest (Jensen and Golias). See `jacobian`."""
-        return -self.jacobian(xy, t, lod, grid)
+        return -self.jacobian(xy, t, lod, grid, band)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -370,17 +369,16 @@ class SpectralField:
         x = np.asarray(x, dtype=np.float64)
         return self.sample(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod, (0,))[0]
 
-    def jacobian(self, xy, t, lod=None, grid=None):
-        """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh of it shows it: by
-        differences between neighbouring vertices, which see the waves the band limit keeps,
-        each wave's slope lessened as the differences over its vertices lessen it.
+    def jacobian(self, xy, t, lod=None, grid=None, band=None):
+        """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh shows it: by differences
+        between neighbouring vertices, each wave's slope lessened as they lessen it.
 
         `grid` given: xy (2, rows, columns) are a frame's grid points on the sea and `grid` the
         same points displaced (`displacement`; without choppiness, xy itself), and the Jacobian
         is that of the map from one to the other between neighbours (central differences,
         one-sided on the border). Otherwise xy (2, ...) are points apart, and the differences
-        are central over the vertex spacing their `lod` stands for (band_limit.lod_for_spacing;
-        `lod` None: the spacing at which every band is whole), along x and along y."""
+        are central over the spacing their `lod` stands for (band_limit.lod_for_spacing; None:
+        every band whole), along x and y, of the waves `band` keeps if lower (a finer grid's)."""
         xy = np.asarray(xy, dtype=np.float64)
         if grid is not None:
             moved = xy + self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0 else grid
@@ -391,8 +389,10 @@ class SpectralField:
         points = np.repeat(xy[:, None], 4, axis=1)  # (2, 4, ...): +x, -x, +y, -y
         points[0, :2] += np.multiply.outer((1.0, -1.0), step)
         points[1, 2:] += np.multiply.outer((1.0, -1.0), step)
-        lods = np.broadcast_to(level.astype(np.float32), points.shape[1:])
-        dx, dy = self.sample(points, t, None if lod is None else lods, SIDEWAYS)
+        kept = level if band is None else np.minimum(level, band)
+        lods = None if lod is None and band is None else np.broadcast_to(
+            kept.astype(np.float32), points.shape[1:])
+        dx, dy = self.sample(points, t, lods, SIDEWAYS)
         span = 2.0 * step
         ddx_x, ddy_x = (dx[0] - dx[1]) / span, (dy[0] - dy[1]) / span
         ddx_y, ddy_y = (dx[2] - dx[3]) / span, (dy[2] - dy[3]) / span

@@ -31,7 +31,7 @@ def test_a_keyed_wind_s_whitecaps_cover_the_share_of_its_own_wind(u):
     x, y = foam.sea_sample(sea.foam_span, 16384)
     want = foam.active_coverage(sea, u)
     for k in range(0, len(levels), 5):
-        cue = sea.foam_cue(np.stack([x, y]), 3.0, np.full(x.shape, levels[k], np.float32))
+        cue = foam.crest_cue(sea, np.stack([x, y]), 3.0, np.full(x.shape, levels[k], np.float32))
         got = np.clip((cue - thresholds[k]) / widths[k] + 0.5, 0.0, 1.0).mean()
         assert got == pytest.approx(want, rel=0.03), (u, levels[k], got / want)
 
