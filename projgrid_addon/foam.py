@@ -19,18 +19,12 @@ from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
 NO_FOAM = 1e6
-
-
 FOAM_PERIOD = 1.0  # seconds between the foam's calibrations (foam_thresholds)
-
-
 FOAM_SOFTNESS = 1.0  # a whitecap's ramp at full detail, in the cue's standard deviations
-
 
 # A linear ramp this many standard deviations wide has the slope of the normal distribution's
 # CDF at its middle (sqrt(2 pi)): the share of a vertex that the waves it leaves out foam.
 UNRESOLVED_RAMP = 2.5
-
 
 # m: waves longer than this make whitecaps a vertex should place; the foam of shorter ones is
 # the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover).
@@ -71,12 +65,17 @@ def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     return a[0], (1.0 - f) * a[1] + f * b[1], (1.0 - f) * a[2] + f * b[2]
 
 
-def ahead(time, coverage, samples=16384):
-    """The calibrations (their keys: time, coverage, samples) a sequence playing at `time`
-    needs next: those of the next two FOAM_PERIODs."""
-    coverage = min(max(float(coverage), 1e-6), 1.0)
+def ahead_times(time):
+    """The starts of the next two FOAM_PERIODs after `time`: the calibrations a sequence
+    playing there needs next are theirs."""
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
-    return [(t0 + k * FOAM_PERIOD, coverage, samples) for k in (1, 2)]
+    return tuple(t0 + k * FOAM_PERIOD for k in (1, 2))
+
+
+def ahead(time, coverage, samples=16384):
+    """The calibrations (their keys: time, coverage, samples) of `ahead_times`."""
+    coverage = min(max(float(coverage), 1e-6), 1.0)
+    return [(t, coverage, samples) for t in ahead_times(time)]
 
 
 class Calibrations:
@@ -385,8 +384,8 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         # `placed` keeps over the spacing the points have (foam_thresholds).
         if lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
-                residual_foam.cue_at(source, points, time, np.minimum(at, placed)), at,
-                thresholds), xy, lods, 1)
+                residual_foam.cue_at(source, points, time, at, placed), at, thresholds),
+                xy, lods, 1)
         else:
             foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
         residual = residual_foam.residual(

@@ -115,8 +115,9 @@ class HeightField:
         """Where whitecaps form on the noise: the highest crests (Jensen and Golias), of the
         octaves `band` keeps if lower than `lod`. `grid`, the displaced grid the spectrum's cue
         is taken from, is not needed."""
-        return self.heights_xy(xy, t, lod if band is None else band if lod is None else
-                               np.minimum(lod, band))
+        if band is not None:
+            lod = band if lod is None else np.minimum(lod, band)
+        return self.heights_xy(xy, t, lod)
 
     def shader_octaves(self, lod):
         """(first, count): the octaves some vertex left out, in part or whole (§3.2)."""

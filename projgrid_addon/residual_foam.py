@@ -92,10 +92,13 @@ def _laid(step, tau):
     return total
 
 
-def cue_at(source, xy, time, lod):
+def cue_at(source, xy, time, lod, top=None):
     """The source's foam cue at time `time` at grid points `xy` (2, rows, columns, before any
-    choppy displacement), its folding taken from the grid the points make at that time; for
-    a tuple of times, their cues (the points located in the sea's tiles once for all)."""
+    choppy displacement), its folding taken from the grid the points make at that time, of
+    the waves band limit `lod` keeps, at most `top`'s; for a tuple of times, their cues (the
+    points located in the sea's tiles once for all)."""
+    if top is not None:
+        lod = np.minimum(lod, np.float32(top))
     times = time if isinstance(time, tuple) else (time,)
     moved = [xy] * len(times)
     if getattr(source, "choppiness", 0.0) > 0.0 and hasattr(source, "jacobian"):
@@ -174,11 +177,10 @@ def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None
         key = grid if grid is not None else hashlib.sha1(
             points.tobytes() + np.asarray(at, np.float32).tobytes()).digest()
         foam_of = active(at)
-        band = at if top is None else np.minimum(at, np.float32(top))
         out = np.zeros(points.shape[1:], np.float32)
         past = samples(time, tau)
-        cues = PAST.get(source, [(key, when) for when, _ in past],
-                        lambda missing: cue_at(source, points, tuple(w for _, w in missing), band))
+        cues = PAST.get(source, [(key, when) for when, _ in past], lambda missing: cue_at(
+            source, points, tuple(w for _, w in missing), at, top))
         for cue, (_, weight) in zip(cues, past, strict=True):
             out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
         return out

@@ -78,6 +78,17 @@ def without_blown(group, scene, path):
             group.links.new(blown, target)
 
 
+def covers(off, on, pictures, relative):
+    """(the sea's pixels, each of `pictures`' foam cover there): a pixel's cover is how far it
+    went from `off` (the foam muted) toward `on` (foam everywhere), in [0, 1]; the sea is where
+    that gain is over 0.05 (of its largest if `relative`: where foam could show, not the sky)."""
+    import numpy as np
+
+    gain = on - off
+    sea = gain > 0.05 * (max(float(gain.max()), 1e-9) if relative else 1.0)
+    return sea, [np.clip((p - off) / np.where(sea, gain, 1.0), 0.0, 1.0)[sea] for p in pictures]
+
+
 def white_share(group, scene, path, blown=True):
     """The shares of the sea's pixels in the shot, from the picture as drawn (written to
     `path`), two more with the Foam mix's factor at 0 and at 1, and one without the blown
@@ -85,8 +96,6 @@ def white_share(group, scene, path, blown=True):
     whitecaps: the share over a half covered in display values, of all the foam and of the
     whitecaps and their foam; cover: the mean cover in display values; area, whitecaps_area:
     the mean cover in linear light, the share of the sea's area covered}."""
-    import numpy as np
-
     foam = group.nodes["Foam"].inputs[0]
     link = foam.links[0]
     source = link.from_socket
@@ -102,13 +111,10 @@ def white_share(group, scene, path, blown=True):
     whitecaps = without_blown(group, scene, f"{path[:-4]}_whitecaps.png") if blown else drawn
     shares = {}
     for k, space in enumerate(("display", "linear")):
-        gain = lum[1.0][k] - lum[0.0][k]
-        # where foam could show: the sea, not the sky (none: no foam drawn)
-        sea = gain > 0.05 * (1.0 if space == "display" else max(float(gain.max()), 1e-9))
-        if not sea.any():
+        sea, shares[space] = covers(lum[0.0][k], lum[1.0][k], [p[k] for p in (drawn, whitecaps)],
+                                    space == "linear")
+        if not sea.any():  # no foam drawn
             return dict.fromkeys(("white", "whitecaps", "cover", "area", "whitecaps_area"), 0.0)
-        shares[space] = [np.clip((p[k] - lum[0.0][k]) / np.where(sea, gain, 1.0), 0.0,
-                                 1.0)[sea] for p in (drawn, whitecaps)]
     (drawn, whitecaps), (area, whitecaps_area) = shares["display"], shares["linear"]
     return {"white": float((drawn > WHITE).mean()),
             "whitecaps": float((whitecaps > WHITE).mean()), "cover": float(drawn.mean()),

@@ -171,9 +171,8 @@ def winds_ahead(ocean, frame_now, time, per_frame):
     curve = scene.wind_curves(ocean).get(scene.WIND_PATHS[0])
     if curve is None or per_frame <= 0.0:
         return ()
-    start = np.floor(time / foam.FOAM_PERIOD) * foam.FOAM_PERIOD
-    return tuple(max(float(curve.evaluate(frame_now + (start + k * foam.FOAM_PERIOD - time)
-                                          / per_frame)), 0.0) for k in (1, 2))
+    return tuple(max(float(curve.evaluate(frame_now + (when - time) / per_frame)), 0.0)
+                 for when in foam.ahead_times(time))
 
 
 def wind_samples(ocean, frame_now, s):

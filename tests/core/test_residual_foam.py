@@ -38,9 +38,9 @@ def test_a_frame_s_residual_foam_is_the_same_with_its_past_kept_or_made(monkeypa
     made = []
     real = residual_foam.cue_at
 
-    def counted(source, xy, when, lod):
+    def counted(source, xy, when, lod, top=None):
         made.append(len(when) if isinstance(when, tuple) else 1)
-        return real(source, xy, when, lod)
+        return real(source, xy, when, lod, top)
     monkeypatch.setattr(residual_foam, "cue_at", counted)
     preset = sea_states.sea_state(8)
     state = SeaState(wind_speed=preset.wind_speed, fetch=preset.fetch)
