@@ -6,7 +6,8 @@ above, the white share as a photograph taken straight down measures it), written
 beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
 Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
-The white share is measured on the picture, averaged over FRAMES: each frame is rendered three
+The white share is measured on the pictures of VIEWS views (`views`: other times, the camera
+moved across the sea, so that each holds other breakers; at SHARE_SAMPLES). Each is rendered three
 times, as drawn, with the foam muted and with foam everywhere; a pixel's foam cover is how far
 it went from the muted picture toward the all-foam one. In linear light (the render's own
 values, before the view transform) that is the share of the pixel's area the foam covers (the
@@ -27,11 +28,20 @@ import tempfile
 FORCES = (2, 4, 6, 8, 10)
 HEIGHTS = {5.0: -4.0, 40.0: -12.0, 300.0: -90.0}  # camera height m: pitch deg
 WIND = 60.0  # deg counter-clockwise from +X, where the wind blows toward (the camera looks +Y)
-FRAME = 48
-# The white share is averaged over these frames (the picture is FRAME's): one frame's view
-# holds a few large breakers at most, so its share swings several-fold about the sea's.
-FRAMES = (48, 96, 144)
+FRAME = 48  # the picture's, from the first view's place
+# The white share is averaged over this many views (`views`): one view holds a few large
+# breakers at most, so its share swings several-fold about the sea's (0.2-1.6x over twelve
+# views of force 6 from 300 m, the vertices' foam alone).
+VIEWS = 9
+SHARE_SAMPLES = 4  # EEVEE's samples for the shares' renders: they read as 16 do, to 1 %
 WHITE = 0.5  # a pixel's foam cover from which it reads as white
+
+
+def views(count):
+    """(frame, the camera's x in m) of `count` views: FRAME's from x = 0 first, then each 2 s
+    later, the camera moved 700 m across the view (further than a view from 300 m holds),
+    alternately either side."""
+    return [(FRAME + 48 * k, 700.0 * ((k + 1) // 2) * (-1.0) ** k) for k in range(count)]
 
 
 def render(scene, path):
@@ -130,14 +140,14 @@ def shoot(out, quick=False):
     from projgrid_addon import effects, streaks
     from tools.demo import default_shot
 
-    size, samples = ((240, 135), 4) if quick else ((480, 270), 16)
+    size, samples = ((240, 135), SHARE_SAMPLES) if quick else ((480, 270), 16)
     work = tempfile.mkdtemp(prefix="projgrid-beaufort-")
     rows = []
     for force in FORCES:
         for height, pitch in HEIGHTS.items():
             bpy.ops.wm.read_homefile(use_empty=True)
             scene = bpy.context.scene
-            default_shot(scene, size=size, samples=samples, height=height, pitch=pitch)
+            camera = default_shot(scene, size=size, samples=samples, height=height, pitch=pitch)
             ocean = bpy.data.objects["Ocean"]
             bpy.context.view_layer.objects.active = ocean
             bpy.ops.projgrid.sea_state(beaufort=force)
@@ -147,12 +157,15 @@ def shoot(out, quick=False):
             u = ocean.projgrid.wind_speed
             shares = []
             foamed = effects.whitecap_coverage(u) > effects.FOAM_MIN_COVERAGE
-            for frame in FRAMES if foamed else FRAMES[:1]:  # no foam: nothing to average
+            for k, (frame, x) in enumerate(views(3 if quick else VIEWS) if foamed else views(1)):
+                camera.location.x = x  # no foam: nothing to average
                 scene.frame_set(frame)
+                if k == 0:
+                    scene.eevee.taa_render_samples = samples
+                    render(scene, os.path.join(out, name))
+                    scene.eevee.taa_render_samples = SHARE_SAMPLES
                 shares.append(white_share(group, scene, os.path.join(work, f"{frame}_{name}"),
                                           streaks.blown_coverage(u) > 0.0))
-                if frame == FRAME:
-                    os.replace(os.path.join(work, f"{frame}_{name}"), os.path.join(out, name))
             rows.append({"force": force, "height": height, "pitch": pitch,
                          **{k: float(np.mean([f[k] for f in shares])) for k in shares[0]},
                          "frames": shares, "monahan": effects.whitecap_coverage(u),
