@@ -317,7 +317,7 @@ def _beaufort(report):
         "streaks (from Beaufort 7: none up to 13.9 m/s, the sea white at 40 m/s; *blown streaks' "
         "share*, `streaks.blown_coverage`). In display values partial cover reads larger (a pixel a"
         " tenth covered reads as about a fifth): *looks white* is the share of the sea's pixels "
-        "over half covered there, as the eye reads the picture. Three views, so a few breakers more"
+        "over half covered there, as the eye reads the picture. Nine views, so a few breakers more"
         " or less move it.", "", table, "", *pictures, ""]
 
 
