@@ -5,10 +5,11 @@ page, and the allocator hands it back when it is freed (docs/benchmarks.md, find
 passes therefore write their temporaries into buffers kept between frames, and run CHUNK
 points at a time, so the buffers stay a few megabytes for any grid.
 
-NumPy's FFTs release the GIL, so independent passes as long as the spectral sea's tiles'
-transforms run on several cores (`each`; a grid's per-vertex passes, many short NumPy calls,
-measured slower so shared). Which passes there are depends on the data alone, never on the
-cores, so a frame is bit-identical whatever the number of threads.
+NumPy releases the GIL in its FFTs and its longer array operations, so independent passes run
+on several cores (`each`): the spectral sea's tiles' transforms, and its sampling of a grid in
+chunks of rows (`row_step`: a 257² grid's in two, 20 % faster on two cores; a viewport grid's
+is one chunk, its many short NumPy calls not worth sharing). Which passes there are depends on
+the data alone, never on the cores, so a frame is bit-identical whatever the number of threads.
 """
 
 import math
@@ -24,7 +25,22 @@ CHUNK = 1 << 16
 WORKERS = min(4, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
               else os.cpu_count() or 1)
 
+# Points from which a pass is split into an even number of chunks (`row_step`).
+SHARED = CHUNK // 2
+
 _local = threading.local()
+
+
+def row_step(rows, columns):
+    """Rows per chunk of a pass over `rows` x `columns` points: at most CHUNK points each (a
+    row at least), and from SHARED points on an even number of chunks, which `each` shares
+    evenly over two cores. A function of the sizes alone, never of the cores: the chunks, and
+    so the frame, are the same whatever runs them."""
+    most = max(1, CHUNK // columns)
+    n = -(-rows // most)
+    if rows * columns >= SHARED:
+        n = max(2, n + n % 2)
+    return max(1, -(-rows // n))
 
 
 def scratch(name, shape, dtype):

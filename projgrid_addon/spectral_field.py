@@ -60,7 +60,7 @@ from .cascade import (
     swell_wave,
 )
 from .projected_grid import grid_jacobian
-from .scratch import CHUNK, each, scratch
+from .scratch import each, row_step, scratch
 from .slope_layer import SlopeLayer
 from .tiles import Lookup
 from .validation import finite, integer, non_negative
@@ -278,8 +278,8 @@ class SpectralField:
         on_grid = on_grid and lod2 is not None and len(shape) == 2
         lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
                 for level, along, _ in self.groups]
-        step = max(1, CHUNK // out2.shape[-1])  # whatever the times: the same chunks
-        for start in range(0, out2.shape[2], step):
+        step = row_step(*out2.shape[2:])  # the same chunks whatever the times, on the threads
+        def chunk(start):
             band = slice(start, start + step)
             origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
             # The offsets from the origin, then the warp there (Lookup.turned reads both).
@@ -292,13 +292,13 @@ class SpectralField:
             self._sum(textures, origin, points, [None if g is None else g[band] for g in lods],
                       fields, sums, on_grid)
             out2[:, :, band] = sums
+        each(chunk, range(0, out2.shape[2], step))
         return out if isinstance(t, tuple) else out[0]
 
     @staticmethod
     def _origin(xy, lod):
         """Where a chunk's points are taken from in single precision: the point of the finest
-        detail (the shortest bands are sampled only near it), or without a band limit the
-        middle of the chunk's extent."""
+        detail (the shortest bands are sampled only near it), else the chunk's extent's middle."""
         if lod is None:
             return 0.5 * (xy.min(axis=(1, 2)) + xy.max(axis=(1, 2)))
         i = np.unravel_index(np.argmax(lod), lod.shape)

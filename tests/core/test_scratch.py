@@ -59,3 +59,19 @@ def test_each_inside_each_does_not_wait_on_itself():
     thread.start()
     thread.join(timeout=20.0)
     assert not thread.is_alive() and result["v"] == [0, 10, 20, 30]
+
+
+@pytest.mark.parametrize("rows, columns", [(129, 65), (257, 257), (513, 257), (257, 513),
+                                           (3, 40_000), (1, 200_000)])
+def test_row_step_makes_chunks_of_at_most_chunk_points_two_or_more_when_large(rows, columns):
+    """Chunks of rows of at most CHUNK points (one row at least): one for a viewport grid, an
+    even number (whole rows allowing) from SHARED points on."""
+    step = scratch.row_step(rows, columns)
+    chunks = -(-rows // step)
+    assert step * columns <= scratch.CHUNK or step == 1
+    if rows * columns < scratch.SHARED:
+        assert chunks == 1
+    elif rows > 1:
+        assert chunks >= 2
+    if (rows, columns) in ((257, 257), (513, 257), (257, 513)):
+        assert chunks % 2 == 0

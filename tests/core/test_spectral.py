@@ -218,6 +218,19 @@ def test_a_frame_is_a_pure_function_of_time(monkeypatch):
     assert np.array_equal(single.sample(np.stack([x, y]), 12.5, fields=(0, 1, 2)), want)
 
 
+def test_a_grid_s_chunks_on_threads_sample_as_on_one(monkeypatch):
+    """A grid large enough to be sampled in chunks of rows on the threads (scratch.row_step)
+    gives, made on one thread, the same values to the bit."""
+    source = SpectralField(SeaState(wind_speed=15.0), choppiness=1.0, seed=3)
+    xy = np.stack(np.meshgrid(np.linspace(-400.0, 400.0, 257), np.linspace(5.0, 900.0, 257)))
+    lod = np.linspace(4.0, -2.0, 257, dtype=np.float32)[:, None].repeat(257, axis=1)
+    assert scratch.row_step(257, 257) < 257  # two chunks
+    monkeypatch.setattr(scratch, "WORKERS", 3)
+    shared = source.sample(xy, 7.0, lod, (0, 1, 2), on_grid=True)
+    monkeypatch.setattr(scratch, "WORKERS", 1)
+    assert np.array_equal(source.sample(xy, 7.0, lod, (0, 1, 2), on_grid=True), shared)
+
+
 def test_a_grid_samples_long_bands_every_other_vertex():
     """On a frame's grid, a band whose shortest wave spans 64 vertex spacings or more is
     sampled on every other row and column and interpolated between: the surface stays within
@@ -372,9 +385,7 @@ def test_several_times_sample_as_each_alone(monkeypatch):
     """SpectralField.sample over a tuple of times gives each time's values as sampled alone,
     in chunks whatever the number of times (the residual foam asks for the times it lacks: a
     cache must not change what is drawn)."""
-    from projgrid_addon import spectral_field
-
-    monkeypatch.setattr(spectral_field, "CHUNK", 700)  # several chunks of rows
+    monkeypatch.setattr(scratch, "CHUNK", 700)  # several chunks of rows
     source = SpectralField(SeaState(wind_speed=15.0), choppiness=1.0, seed=3)
     xy = np.stack(np.meshgrid(np.linspace(0.0, 300.0, 40), np.linspace(0.0, 200.0, 30)))
     lod = np.full(xy.shape[1:], 2.5, np.float32)
