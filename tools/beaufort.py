@@ -157,8 +157,9 @@ def shoot(out, quick=False):
             u = ocean.projgrid.wind_speed
             shares = []
             foamed = effects.whitecap_coverage(u) > effects.FOAM_MIN_COVERAGE
+            # no foam: nothing to average
             for k, (frame, x) in enumerate(views(3 if quick else VIEWS) if foamed else views(1)):
-                camera.location.x = x  # no foam: nothing to average
+                camera.location.x = x
                 scene.frame_set(frame)
                 if k == 0:
                     scene.eevee.taa_render_samples = samples

@@ -294,22 +294,23 @@ def _beaufort(report):
                           ("whitecaps look white / Monahan", "looks", ".2f"),
                           ("blown streaks' share", "blown", ".2%")])
     pictures = [f"![Beaufort {r['force']} from {r['view']}]({r['path']})" for r in rows]
+    views = max(len(r["frames"]) for r in rows)
     if foamed := [r["ratio"] for r in rows if r["force"] >= 4]:
         low, high = min(foamed), max(foamed)
         report.targets.append(Target(
             "Rendered whitecaps' share of the sea 0.5-2× Monahan's, forces 4-10, from 5 m "
             "and 40 m and straight down", f"{low:.2f}-{high:.2f}×", 0.5 <= low and high <= 2.0,
             "**Whitecaps' share.** A view holds few breakers, and the foam is placed on the "
-            "breaking crests: the mean of three views still swings with a cluster of them "
+            f"breaking crests: the mean of {views} views still swings with a cluster of them "
             "near the camera (each view's share is in benchmarks.json)."))
     report.md += [
         "## 12. The Beaufort forces: the white share in the picture", "",
         "Each force's preset from 5 m (4° down), 40 m (12° down) and straight down from 300 m (a "
         "view some 310 m across: a smaller one holds too few of the streaks), the picture frame 48,"
-        " the shares the mean of nine views, 2 s apart, the camera moved 700 m across the view each"
-        " time, the wind blowing away 30° right of the view (EEVEE, 16 samples, the shares' 4: they"
-        " read the same; `tools/beaufort.py`). A pixel's foam cover is how far it goes from the "
-        "picture with the foam muted toward the one with foam everywhere. In linear light (the "
+        f" the shares the mean of {views} views, 2 s apart, the camera moved 700 m across the"
+        " view each time, the wind blowing away 30° right of it (EEVEE, 16 samples, the shares' 4:"
+        " they read the same; `tools/beaufort.py`). A pixel's foam cover is how far it goes from "
+        "the picture with the foam muted toward the one with foam everywhere. In linear light (the "
         "render's values before the view transform) that is the share of the pixel's area the foam "
         "covers, and its mean over the sea's pixels the share of the sea the picture shows covered "
         "(*area*), which is what Monahan and O'Muircheartaigh's 1.59e-5 U^2.55 measures, of the "
@@ -317,8 +318,7 @@ def _beaufort(report):
         "streaks (from Beaufort 7: none up to 13.9 m/s, the sea white at 40 m/s; *blown streaks' "
         "share*, `streaks.blown_coverage`). In display values partial cover reads larger (a pixel a"
         " tenth covered reads as about a fifth): *looks white* is the share of the sea's pixels "
-        "over half covered there, as the eye reads the picture. Nine views, so a few breakers more"
-        " or less move it.", "", table, "", *pictures, ""]
+        "over half covered there, as the eye reads the picture.", "", table, "", *pictures, ""]
 
 
 def _memory(report):
