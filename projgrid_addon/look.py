@@ -8,16 +8,17 @@ SUN_ELEVATION, SUN_STRENGTH = 12.0, 3.0  # degrees, W/m^2: Add Ocean's sun lamp 
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
 FOAM_GRAIN = 0.3
-# How fast the grain churns, in the noise's own time coordinate per unit of Detail Time (the
-# noise multiplies W by its Scale, so W is divided by FOAM_GRAIN).
+# How fast the grain churns, in the noise's own time coordinate per unit of Detail Time (each
+# of our noises is Blender's 3D noise over the water and its time, the third axis, which the
+# noise multiplies by its Scale as the position: so the time is divided by FOAM_GRAIN).
 FOAM_CHURN = 1.5
 FOAM_DETAIL, FOAM_ROUGHNESS = 4.0, 0.65  # its fractal
 # Its Fac's standard deviation about 0.5, and (a, b) of its CDF as 1 / (1 + e^-(a z + b z^3)),
 # z in standard deviations: fitted to Blender's own noise over a period of its time
-# coordinate (1.3 million samples; the fractal's Fac has lighter tails than a normal one's,
+# coordinate (1.75 million samples; the fractal's Fac has lighter tails than a normal one's,
 # and its spread varies by 4 % with the time), so the drawn cover is the share over time
-# (tests/blender/test_sea.py); at a 2 % share it swings by a quarter as the grain evolves.
-FOAM_GRAIN_STD = 0.0619
+# (tests/blender/test_look.py); at a 2 % share it swings by a quarter as the grain evolves.
+FOAM_GRAIN_STD = 0.0684
 FOAM_RANK = (1.522, 0.0963)
 # How soft a bubble's edge is, in the noise's ranks, per unit of the share (or of what it
 # leaves uncovered): the ramp stays inside the ranks, so nothing is drawn at a share of
@@ -47,7 +48,7 @@ WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whiteca
 # noise of GUST_SCALE features per metre (Detail GUST_DETAIL; its Fac's spread GUST_FAC_STD,
 # measured over its time). The factor's mean over the sea is 1, so the sea's mean slope stays
 # Cox and Munk's (test_sea.py).
-GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.088
+GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.098
 GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
 

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# The standard deviation of Blender's noise texture Fac (4D, Detail 2, roughness 0.5), measured
-# in an EEVEE render of 400 features: a bump of Distance d moves the surface by 0.072 d (rms).
-NOISE_FAC_STD = 0.072
+# The standard deviation of Blender's noise texture Fac (3D, Detail 2, roughness 0.5), measured
+# through Geometry Nodes over 400 features and three times (tests/blender/test_look.py): a bump
+# of Distance d moves the surface by 0.080 d (rms).
+NOISE_FAC_STD = 0.080
 # The ripples: the octaves below the shortest wave a source synthesises, as shading detail
 # (each source's `ripple`); under them the wind's slopes Cox and Munk measured that the sea
 # does not draw (`filtering`).

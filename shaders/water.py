@@ -72,7 +72,7 @@ SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 33  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 34  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -130,13 +130,21 @@ def _build(group):
         g, i, g.value(g.node("ShaderNodeCameraData").outputs["View Distance"]),
         g.value(g.node("ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]))
 
-    def drawn_noise(vector, time, scale, octaves, roughness, height, top_log):
+    position = g.node("ShaderNodeSeparateXYZ", {0: geo["Position"]}).outputs
+
+    def on_water(x, y, time):
+        """A noise's coordinates: across the water and in its time. Each noise is a 3D one, the
+        third axis its time (the noise scales it as the position): half a 4D one's cost per
+        pixel (docs/benchmarks.md, findings), and the water's height is left out of it."""
+        return g.node("ShaderNodeCombineXYZ", {"X": x, "Y": y, "Z": time}).outputs[0]
+
+    def drawn_noise(time, scale, octaves, roughness, height, top_log):
         """A fractal noise bump keeping only the waves a pixel shows here
         (model.octaves_drawn): (strength, distance, height) for a Bump node."""
         detail, kept, strength = model.octaves_drawn(g, top_log, footprint, octaves, roughness)
-        fac = g.node("ShaderNodeTexNoise", {"Vector": vector, "W": time, "Scale": scale,
-                                            "Detail": detail, "Roughness": roughness},
-                     noise_dimensions="4D").outputs["Fac"]
+        fac = g.node("ShaderNodeTexNoise", {
+            "Vector": on_water(position["X"], position["Y"], time), "Scale": scale,
+            "Detail": detail, "Roughness": roughness}, noise_dimensions="3D").outputs["Fac"]
         return strength, height * kept, fac
 
     # The slope layer: each band's slopes by its gain (model.layer_gain), tilting the
@@ -155,22 +163,21 @@ def _build(group):
     # the first shader octave (lod <= first), none where they carry it whole; and only as far
     # as a pixel shows them.
     lod_fade = g.clamp(i["Detail First Octave"] + 1.0 - lod)
-    strength, height, fac = drawn_noise(geo["Position"], i["Detail Time"], i["Detail Scale"],
+    strength, height, fac = drawn_noise(i["Detail Time"], i["Detail Scale"],
                                         i["Detail Octaves"], i["Detail Roughness"],
                                         i["Detail Height"], i["Detail Top Log"])
     normal = g.node("ShaderNodeBump", {"Strength": lod_fade * strength,
                                        "Distance": height, "Height": fac}).outputs["Normal"]
     # Gusts (model.gust): the ripples' slope variance times the gusts' factor, their noise
     # drifting with the wind.
-    drift = g.node("ShaderNodeCombineXYZ", {"X": i["Gust Drift X"],
-                                            "Y": i["Gust Drift Y"]}).outputs[0]
     gust_noise = g.node("ShaderNodeTexNoise", {
-        "Vector": g.vector("SUBTRACT", geo["Position"], drift),
-        "W": i["Gust Path"] * GUST_EVOLVE, "Scale": GUST_SCALE,
-        "Detail": GUST_DETAIL, "Roughness": 0.5}, noise_dimensions="4D").outputs["Fac"]
+        "Vector": on_water(g.value(position["X"]) - i["Gust Drift X"],
+                           g.value(position["Y"]) - i["Gust Drift Y"],
+                           i["Gust Path"] * GUST_EVOLVE), "Scale": GUST_SCALE,
+        "Detail": GUST_DETAIL, "Roughness": 0.5}, noise_dimensions="3D").outputs["Fac"]
     gust = model.gust(g, i, g.value(gust_noise), footprint)
     # Ripples shorter than any wave the sea synthesises, as far as a pixel shows them.
-    strength, height, fac = drawn_noise(geo["Position"], i["Ripple Time"], i["Ripple Scale"],
+    strength, height, fac = drawn_noise(i["Ripple Time"], i["Ripple Scale"],
                                         i["Ripple Octaves"], 0.5,
                                         i["Ripple Height"] * g.sqrt(gust), i["Ripple Top Log"])
     normal = g.node("ShaderNodeBump", {"Strength": strength, "Distance": height, "Height": fac,
@@ -234,13 +241,11 @@ def _build(group):
         w = i["Detail Time"] * (churn / scale)
         if offset:
             w = w + offset / scale
-        aligned = g.node("ShaderNodeCombineXYZ", {
-            "X": g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
-                "X": cos_w * along, "Y": sin_w * along}).outputs[0]),
-            "Y": y}).outputs[0]
+        x = g.vector("DOT_PRODUCT", water, g.node("ShaderNodeCombineXYZ", {
+            "X": cos_w * along, "Y": sin_w * along}).outputs[0])
         return g.value(g.node("ShaderNodeTexNoise", {
-            "Vector": aligned, "W": w, "Scale": scale, "Detail": FOAM_DETAIL,
-            "Roughness": FOAM_ROUGHNESS}, noise_dimensions="4D").outputs["Fac"])
+            "Vector": on_water(x, y, w), "Scale": scale, "Detail": FOAM_DETAIL,
+            "Roughness": FOAM_ROUGHNESS}, noise_dimensions="3D").outputs["Fac"])
     active, residual = (g.value(g.node("ShaderNodeAttribute", attribute_name=name)
                                 .outputs["Fac"]) for name in (FOAM_ATTRIBUTE, RESIDUAL_ATTRIBUTE))
     grain = noise(FOAM_GRAIN, 1.0, FOAM_STREAK, FOAM_CHURN, 0.0)

@@ -115,9 +115,10 @@ def grain_noise(look, samples=700, w=3.7):
                          600.0 / look.FOAM_GRAIN, samples, w)
 
 
-def blender_noise(scale, detail, roughness, size, samples, w, dimensions="4D"):
-    """The Fac of Blender's noise texture (4D: at time `w`) over a square `size` across,
-    `samples` a side, evaluated through Geometry Nodes."""
+def blender_noise(scale, detail, roughness, size, samples, w):
+    """The Fac of Blender's 3D noise texture over a square `size` across, `samples` a side, at
+    time `w` (the third coordinate, as the water group's noises take theirs), evaluated through
+    Geometry Nodes."""
     mesh = bpy.data.meshes.new("grain")
     obj = bpy.data.objects.new("grain", mesh)
     bpy.context.scene.collection.objects.link(obj)
@@ -128,15 +129,16 @@ def blender_noise(scale, detail, roughness, size, samples, w, dimensions="4D"):
         grid.inputs[f"Size {axis}"].default_value = size
         grid.inputs[f"Vertices {axis}"].default_value = samples
     noise = tree.nodes.new("ShaderNodeTexNoise")
-    noise.noise_dimensions = dimensions
-    for name, value in (("Scale", scale), ("Detail", detail), ("Roughness", roughness),
-                        ("W", w)):
-        if name in noise.inputs:  # a 3D noise has no W
-            noise.inputs[name].default_value = value
+    noise.noise_dimensions = "3D"
+    for name, value in (("Scale", scale), ("Detail", detail), ("Roughness", roughness)):
+        noise.inputs[name].default_value = value
+    at = tree.nodes.new("ShaderNodeVectorMath")
+    at.inputs[1].default_value = (0.0, 0.0, w)
     store = tree.nodes.new("GeometryNodeStoreNamedAttribute")
     store.inputs["Name"].default_value = "fac"
     links = tree.links
-    links.new(tree.nodes.new("GeometryNodeInputPosition").outputs[0], noise.inputs["Vector"])
+    links.new(tree.nodes.new("GeometryNodeInputPosition").outputs[0], at.inputs[0])
+    links.new(at.outputs[0], noise.inputs["Vector"])
     links.new(grid.outputs[0], store.inputs["Geometry"])
     links.new(noise.outputs["Fac"], store.inputs["Value"])
     links.new(store.outputs[0], tree.nodes.new("NodeGroupOutput").inputs[0])
@@ -147,12 +149,20 @@ def blender_noise(scale, detail, roughness, size, samples, w, dimensions="4D"):
     return fac
 
 
+def test_the_water_group_s_noises_are_those_measured_here(sea):
+    """Every noise of the water group is Blender's 3D one, its time the third coordinate, as
+    blender_noise measures them."""
+    group = sea.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
+    noises = [n for n in group.nodes if n.bl_idname == "ShaderNodeTexNoise"]
+    assert noises and {n.noise_dimensions for n in noises} == {"3D"}
+
+
 def test_the_whitecaps_drawn_cover_the_share(extension):
     """The shader draws a vertex's foam share as the top ranks of its grain noise: over
     Blender's own noise, through a period of its time coordinate (at other times than the
     constants were fitted at), the drawn cover is the share within 10 % from 0.001 to 0.95."""
     look, model = extension.projgrid_addon.look, extension.projgrid_addon.water_model
-    facs = [grain_noise(look, samples=300, w=w)  # the noise scales W as its position
+    facs = [grain_noise(look, samples=300, w=w)  # the noise scales its time as its position
             for w in np.linspace(0.075, 1.425, 7) / look.FOAM_GRAIN]
     spread = np.concatenate(facs).std()
     assert spread == pytest.approx(look.FOAM_GRAIN_STD, rel=0.03)
@@ -169,7 +179,7 @@ def test_the_overcast_s_clouds_mottle_it_and_keep_its_light(extension):
     stays the CIE sky's (optics.sky_irradiance)."""
     sky = extension.shaders.sky
     fac = blender_noise(sky.CLOUD_SCALE, sky.CLOUD_DETAIL, sky.CLOUD_ROUGHNESS,
-                        400.0 / sky.CLOUD_SCALE, 400, 0.0, dimensions="3D")
+                        400.0 / sky.CLOUD_SCALE, 400, 0.0)
     shade = sky.cloud_shade(NUMPY, fac.astype(np.float64), 1.0)
     assert shade.mean() == pytest.approx(1.0, abs=0.02)
     assert shade.std() > 0.1
@@ -243,15 +253,16 @@ def test_the_gusts_keep_the_sea_s_mean_slope(extension):
 
 
 def test_the_grain_churns_at_its_rate_whatever_its_size(sea, extension):
-    """Blender's noise multiplies its time W by its Scale: the water group divides the Detail
-    Time by the grain's scale, so the bubbles' pattern changes FOAM_CHURN of the noise's own
-    time per unit of Detail Time (the coarser grain churned five times slower before)."""
+    """Blender's noise multiplies its coordinates by its Scale, its time (the third) too: the
+    water group divides the Detail Time by the grain's scale, so the bubbles' pattern changes
+    FOAM_CHURN of the noise's own time per unit of Detail Time, whatever the grain's size."""
     water, look = extension.shaders.water, extension.projgrid_addon.look
     tree = bpy.data.node_groups[water.GROUP]
     noise = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexNoise"
                  and n.inputs["Scale"].default_value == pytest.approx(look.FOAM_GRAIN))
-    link = noise.inputs["W"].links[0]
-    rate = link.from_node
+    at = noise.inputs["Vector"].links[0].from_node
+    assert at.bl_idname == "ShaderNodeCombineXYZ"
+    rate = at.inputs["Z"].links[0].from_node
     assert rate.operation == "MULTIPLY"
     assert rate.inputs[0].links[0].from_socket.name == "Detail Time"
     per_unit = rate.inputs[1].default_value * noise.inputs["Scale"].default_value
