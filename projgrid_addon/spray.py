@@ -120,7 +120,8 @@ def blocks(centre, wedge, ring=0):
         outside = np.arctan2(np.abs(across), along) - half
         lateral = np.hypot(along, across) * np.sin(np.clip(outside, 0.0, np.pi / 2.0))
         keep &= lateral < MARGIN + size / np.sqrt(2.0)
-    return [(int(x), int(y)) for x, y in zip(bx.ravel()[keep], by.ravel()[keep], strict=True)]
+    return tuple((int(x), int(y)) for x, y in zip(bx.ravel()[keep], by.ravel()[keep],
+                                                  strict=True))
 
 
 def sites(bx, by, ring=0):
@@ -177,6 +178,9 @@ def droplets(x0, v0, tau, age, wind, spread):
 
 
 LAUNCHES = residual_foam.Kept(8192)  # each block's launches, by (ring, block, time, wind)
+# a ring's launches at a time joined, by (ring, wind, blocks, time): a still camera's frames
+# share them, and the blocks' launches are joined once
+GATHERED = residual_foam.Kept(8 * RINGS)
 
 
 def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
@@ -241,16 +245,25 @@ def spray(source, time, centre, wedge, level, wind_speed, wind_direction, seed=0
     return positions, radii.astype(np.float32), opacities.astype(np.float32)
 
 
+def _gathered(source, near, k, wind_speed, wind_direction, seed, ring):
+    """The puffs the blocks `near` of `ring` launch at lattice time k, as `launches`' arrays
+    joined (an empty tuple: none)."""
+    keys = [(ring, bx, by, k, float(wind_speed), float(wind_direction), seed)
+            for bx, by in near]
+    found = [p for p in LAUNCHES.get(source, keys, lambda missing: launches(
+        source, [key[1:3] for key in missing], k, wind_speed, wind_direction, seed, ring))
+        if p[0].size]
+    return tuple(np.concatenate(v) for v in zip(*found, strict=True)) if found else ()
+
+
 def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, ring):
     """`spray`'s puffs from one ring's sites (None: none)."""
     near = blocks(centre, wedge, ring)
-    found = []
-    for k in launch_times(time):
-        keys = [(ring, bx, by, k, float(wind_speed), float(wind_direction), seed)
-                for bx, by in near]
-        found += [p for p in LAUNCHES.get(source, keys, lambda missing, k=k: launches(
-            source, [key[1:3] for key in missing], k, wind_speed, wind_direction, seed, ring))
-            if p[0].size]
+    view = (ring, float(wind_speed), float(wind_direction), seed, near)
+    found = [p for p in GATHERED.get(source, [(*view, k) for k in launch_times(time)],
+                                     lambda missing: [_gathered(
+                                         source, near, key[-1], wind_speed, wind_direction,
+                                         seed, ring) for key in missing]) if p]
     if not found:
         return None
     born, x0, v0, tau, walk, start = (np.concatenate(v) for v in zip(*found, strict=True))

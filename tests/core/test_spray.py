@@ -90,6 +90,7 @@ def test_each_frame_is_a_pure_function_of_the_time(monkeypatch):
     def frame(t, centre=(0.0, 0.0)):
         return spray.spray(sea, t, centre, AHEAD, 0.0, p.wind_speed, WIND)
     monkeypatch.setattr(spray, "LAUNCHES", residual_foam.Kept(spray.LAUNCHES.kept))
+    monkeypatch.setattr(spray, "GATHERED", residual_foam.Kept(spray.GATHERED.kept))
     alone = frame(12.5)
     for t in (14.0, 11.0, 12.5 - 1 / 24, 12.5 + 1 / 24):
         frame(t)
