@@ -188,16 +188,20 @@ def test_the_overcast_s_clouds_mottle_it_and_keep_its_light(extension):
 def test_the_noise_s_waves_are_as_long_as_the_core_says(extension):
     """Blender's noise (roughness 0.5) draws waves shading.NOISE_WAVES of its cells long (2π
     times its Fac's spread over its rms gradient), which the ripples' height is set by to draw
-    the spectrum's slopes: within 4 % over three of its time slices, at each Detail."""
+    the spectrum's slopes: within 4 % over three of its time slices, at each Detail; at Detail
+    2 its spread is shading.NOISE_FAC_STD's over 0.92 (EEVEE's draws, within 3 %)."""
     shading = extension.projgrid_addon.shading
     n, size = 600, 40.0
     for detail, waves in shading.NOISE_WAVES:
-        measured = []
+        measured, spread = [], []
         for w in (0.7, 3.7, 9.1):
             fac = blender_noise(1.0, detail, 0.5, size, n, w).reshape(n, n).astype(np.float64)
             gy, gx = np.gradient(fac, size / (n - 1))
             measured.append(2.0 * np.pi * fac.std() / np.sqrt(np.mean(gx * gx + gy * gy)))
+            spread.append(fac.std())
         assert np.mean(measured) == pytest.approx(waves, rel=0.04), detail
+        if detail == 2.0:  # and the spread EEVEE draws is 0.92 of it (shading.NOISE_FAC_STD)
+            assert shading.NOISE_FAC_STD / np.mean(spread) == pytest.approx(0.92, rel=0.03)
 
 
 def test_the_gusts_setting_scales_the_gusts(sea):
