@@ -47,7 +47,7 @@ WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whiteca
 # Amplitude z, 0) times Gust Norm, z the local wind's departure in its standard deviations: a
 # noise of GUST_SCALE features per metre (Detail GUST_DETAIL; its Fac's spread GUST_FAC_STD,
 # measured over its time). The factor's mean over the sea is 1, so the sea's mean slope stays
-# Cox and Munk's (test_sea.py).
+# Cox and Munk's (tests/blender/test_look.py).
 GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.098
 GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)

@@ -109,8 +109,8 @@ def cue_at(source, xy, time, lod, top=None):
 
 class Kept:
     """Values of pure functions of a source and a key, kept per source (the `kept` newest
-    made): a still camera's past cues (PAST), the spray's launches (spray.LAUNCHES). A cache
-    of pure functions: never changes what is drawn."""
+    made): a still camera's past cues (PAST), the spray's launches (spray.LAUNCHES, GATHERED).
+    A cache of pure functions: never changes what is drawn."""
 
     def __init__(self, kept):
         self.kept = kept

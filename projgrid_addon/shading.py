@@ -27,7 +27,7 @@ NOISE_FAC_STD = 0.080
 RIPPLE_OCTAVES = 3
 # The length of that noise's waves in its cells (2 pi times its Fac's spread over its rms
 # gradient) by Detail, roughness 0.5: a cell is not a wave, and the fractal's octaves shorten
-# them. Measured through Geometry Nodes (tests/blender/test_sea.py re-measures them).
+# them. Measured through Geometry Nodes (tests/blender/test_look.py re-measures them).
 NOISE_WAVES = ((0.0, 1.752), (1.0, 1.436), (2.0, 1.223), (3.0, 1.140))
 
 

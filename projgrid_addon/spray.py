@@ -178,9 +178,9 @@ def droplets(x0, v0, tau, age, wind, spread):
 
 
 LAUNCHES = residual_foam.Kept(8192)  # each block's launches, by (ring, block, time, wind)
-# a ring's launches at a time joined, by (ring, wind, blocks, time): a still camera's frames
-# share them, and the blocks' launches are joined once
-GATHERED = residual_foam.Kept(8 * RINGS)
+# a ring's launches at a time joined, by (ring, wind, seed, blocks, time): a still camera's
+# frames share them, and the blocks' launches are joined once (room for a few views' worth)
+GATHERED = residual_foam.Kept(16 * RINGS)
 
 
 def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):

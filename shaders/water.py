@@ -134,8 +134,9 @@ def _build(group):
 
     def on_water(x, y, time):
         """A noise's coordinates: across the water and in its time. Each noise is a 3D one, the
-        third axis its time (the noise scales it as the position): half a 4D one's cost per
-        pixel (docs/benchmarks.md, findings), and the water's height is left out of it."""
+        third axis its time (the noise scales it as the position): a 4D one costs about twice
+        as much per pixel (docs/design.md, measurements), and the water's height would only
+        shift its pattern."""
         return g.node("ShaderNodeCombineXYZ", {"X": x, "Y": y, "Z": time}).outputs[0]
 
     def drawn_noise(time, scale, octaves, roughness, height, top_log):

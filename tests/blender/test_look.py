@@ -155,6 +155,10 @@ def test_the_water_group_s_noises_are_those_measured_here(sea):
     group = sea.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
     noises = [n for n in group.nodes if n.bl_idname == "ShaderNodeTexNoise"]
     assert noises and {n.noise_dimensions for n in noises} == {"3D"}
+    for noise in noises:
+        at = noise.inputs["Vector"].links[0].from_node
+        assert at.bl_idname == "ShaderNodeCombineXYZ"
+        assert all(at.inputs[axis].is_linked for axis in "XYZ"), noise.name
 
 
 def test_the_whitecaps_drawn_cover_the_share(extension):
