@@ -111,10 +111,10 @@ class HeightField:
         """The band limits at which the foam is calibrated: octave i is whole from lod i + 1."""
         return np.arange(self.octaves + 1, dtype=np.float64)
 
-    def foam_cue(self, xy, t, lod=None, grid=None, band=None):
+    def foam_cue(self, xy, t, lod=None, grid=None, band=None, origin=None):
         """Where whitecaps form on the noise: the highest crests (Jensen and Golias), of the
         octaves `band` keeps if lower than `lod`. `grid`, the displaced grid the spectrum's cue
-        is taken from, is not needed."""
+        is taken from, and `origin` (the noise is evaluated point by point) are not needed."""
         if band is not None:
             lod = band if lod is None else np.minimum(lod, band)
         return self.heights_xy(xy, t, lod)
@@ -226,11 +226,11 @@ class HeightField:
         """`heights` at a (2, ...) array of x and y, as the grid builds them."""
         return self._evaluate(xy, t, lod, False)[0]
 
-    def displacement(self, xy, t, lod=None, on_grid=False):
+    def displacement(self, xy, t, lod=None, on_grid=False, origin=None):
         """(h, (dx, dy) or None) at a (2, ...) array of x and y: the height and, with
         choppiness, the horizontal displacement toward the crests. (`on_grid`, that xy are a
-        grid's vertices, is for the spectral source's long bands: each octave here is sampled
-        at every vertex.)"""
+        grid's vertices, and `origin` are for the spectral source: each octave here is sampled
+        at every vertex, point by point.)"""
         return self._evaluate(xy, t, lod, self.choppiness > 0.0)
 
     def _evaluate(self, xy, t, lod, choppy):

@@ -109,8 +109,7 @@ class SpectralField:
 
     def twin(self):
         """The same sea for another thread (operators/bridge/ahead.py): its cascades and caches
-        shared (read only but for caches of what is a pure function of the settings), its
-        cache of a time's fields its own."""
+        shared (read only but for caches of pure functions), its time's fields its own."""
         other = copy.copy(self)
         other._moments = OrderedDict()
         return other
@@ -123,9 +122,8 @@ class SpectralField:
     @cached_property
     def spread(self):
         """(standard deviation of the height, root mean square of the choppy displacement), m:
-        each wave vector's mean power |h0(k)|^2 + |h0(-k)|^2 summed (Parseval), the same at
-        every time; the displacement's is lambda times the height's (|k / |k|| = 1) over the
-        tiles that are displaced."""
+        each wave vector's mean power |h0(k)|^2 + |h0(-k)|^2 summed (Parseval), at any time;
+        the displacement's is lambda times the height's (|k / |k|| = 1) over the moved tiles."""
         power = [float(np.sum(c.power())) for c in self.cascades]
         moved = sum(p for p, c in zip(power, self.cascades, strict=True) if 1 in c.gives)
         return float(np.sqrt(sum(power))), float(self.choppiness * np.sqrt(moved))
@@ -146,8 +144,8 @@ class SpectralField:
         return max(c.longest_held for c in self.cascades) if self.cascades else 0.0
 
     def whole_level(self, wavelength):
-        """The band limit from which waves of `wavelength` (m) are whole in the geometry: that
-        of the band holding them (a band fades in whole), its level + 1."""
+        """The band limit from which waves of `wavelength` (m) are whole in the geometry: the
+        level of the band holding them + 1 (a band fades in whole)."""
         return band_level(bands()[band_of(wavelength)][0]) + 1.0
 
     def foam_levels(self):
@@ -157,10 +155,10 @@ class SpectralField:
         levels = sorted({float(level + f) for level in self.levels for f in FOAM_STEPS})
         return levels or [0.0]
 
-    def foam_cue(self, xy, t, lod=None, grid=None, band=None):
+    def foam_cue(self, xy, t, lod=None, grid=None, band=None, origin=None):
         """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
         lowest (Jensen and Golias). See `jacobian`."""
-        return -self.jacobian(xy, t, lod, grid, band)
+        return -self.jacobian(xy, t, lod, grid, band, origin)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -261,12 +259,13 @@ class SpectralField:
         _, _, bound, side, _ = self._at(t)
         return bound, side
 
-    def sample(self, xy, t, lod=None, fields=(0,), on_grid=False):
+    def sample(self, xy, t, lod=None, fields=(0,), on_grid=False, origin=None):
         """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
         each band weighted by the band limit (`lod`, as the grid gives it, or None): (len(fields),
         ...) float64; for a tuple of times `t`, (len(t), len(fields), ...), each tile located once.
         `on_grid`: xy (2, rows, columns) are a grid's vertices, neighbours both ways, so a band
-        long against the spacing is sampled on every other row and column (band_limit.COARSE)."""
+        long against the spacing is sampled on every other row and column (band_limit.COARSE).
+        `origin` (x, y): every chunk's offsets' (None: `_origin`), so each point's are its own."""
         times = t if isinstance(t, tuple) else (t,)
         textures = [self._at(when, fields)[1] for when in times]
         xy = np.asarray(xy, dtype=np.float64)
@@ -281,15 +280,15 @@ class SpectralField:
         step = row_step(*out2.shape[2:])  # the same chunks whatever the times, on the threads
         def chunk(start):
             band = slice(start, start + step)
-            origin = self._origin(xy2[:, band], None if lod2 is None else lod2[band])
+            at = np.array(origin, np.float64) if origin is not None else self._origin(
+                xy2[:, band], None if lod2 is None else lod2[band])
             # The offsets from the origin, then the warp there (Lookup.turned reads both).
             points = scratch("points", (4,) + xy2[:, band].shape[1:], np.float32)
-            np.subtract(xy2[:, band], origin[:, None, None], out=points[:2],
-                        casting="same_kind")
-            self.warp(origin, points[:2], out=points[2:])
+            np.subtract(xy2[:, band], at[:, None, None], out=points[:2], casting="same_kind")
+            self.warp(at, points[:2], out=points[2:])
             sums = scratch("sums", out2[:, :, band].shape, np.float32)  # summed in single
             sums.fill(0.0)
-            self._sum(textures, origin, points, [None if g is None else g[band] for g in lods],
+            self._sum(textures, at, points, [None if g is None else g[band] for g in lods],
                       fields, sums, on_grid)
             out2[:, :, band] = sums
         each(chunk, range(0, out2.shape[2], step))
@@ -357,19 +356,19 @@ class SpectralField:
                     v *= weight
                 into[i] += v
 
-    def displacement(self, xy, t, lod=None, on_grid=False):
+    def displacement(self, xy, t, lod=None, on_grid=False, origin=None):
         """(h, (dx, dy) or None) at world points xy (2, ...): the height and, with choppiness,
-        the horizontal displacement (`on_grid`: see `sample`)."""
+        the horizontal displacement (`on_grid`, `origin`: `sample`'s)."""
         if self.choppiness == 0.0:
-            return self.sample(xy, t, lod, (0,), on_grid)[0], None
-        h, dx, dy = self.sample(xy, t, lod, GEOMETRY, on_grid)
+            return self.sample(xy, t, lod, (0,), on_grid, origin)[0], None
+        h, dx, dy = self.sample(xy, t, lod, GEOMETRY, on_grid, origin)
         return h, np.stack([dx, dy])
 
     def heights(self, x, y, t, lod=None):
         x = np.asarray(x, dtype=np.float64)
         return self.sample(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod, (0,))[0]
 
-    def jacobian(self, xy, t, lod=None, grid=None, band=None):
+    def jacobian(self, xy, t, lod=None, grid=None, band=None, origin=None):
         """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh shows it: by differences
         between neighbouring vertices, each wave's slope lessened as they lessen it.
 
@@ -378,7 +377,8 @@ class SpectralField:
         is that of the map from one to the other between neighbours (central differences,
         one-sided on the border). Otherwise xy (2, ...) are points apart, and the differences
         are central over the spacing their `lod` stands for (band_limit.lod_for_spacing; None:
-        every band whole), along x and y, of the waves `band` keeps if lower (a finer grid's)."""
+        every band whole), along x and y, of the waves `band` keeps if lower (a finer grid's;
+        `origin`: `sample`'s)."""
         xy = np.asarray(xy, dtype=np.float64)
         if grid is not None:
             moved = xy + self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0 else grid
@@ -392,7 +392,7 @@ class SpectralField:
         kept = level if band is None else np.minimum(level, band)
         lods = None if lod is None and band is None else np.broadcast_to(
             kept.astype(np.float32), points.shape[1:])
-        dx, dy = self.sample(points, t, lods, SIDEWAYS)
+        dx, dy = self.sample(points, t, lods, SIDEWAYS, origin=origin)
         span = 2.0 * step
         ddx_x, ddy_x = (dx[0] - dx[1]) / span, (dy[0] - dy[1]) / span
         ddx_y, ddy_y = (dx[2] - dx[3]) / span, (dy[2] - dy[3]) / span

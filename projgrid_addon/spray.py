@@ -195,7 +195,8 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     ix, iy, xy = (np.concatenate(v, axis=-1) for v in zip(*(sites(*b, ring) for b in near),
                                                           strict=True))
     level, thresholds = foam.crest_calibration(source, when, wind_speed)
-    cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32))
+    # from the world's origin: a block's launches are the same whatever blocks join them
+    cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32), origin=(0.0, 0.0))
     share = foam.at_thresholds(level, thresholds)(cue)
     hit = noise.uniforms(_salt(seed, ring, 3), ix, iy, k) < share * spray_rate(wind_speed)
     block = np.repeat(np.arange(len(near)), BLOCK * BLOCK)[hit]
@@ -303,5 +304,5 @@ def phase_speed(source):
 
 def surface(source, xy, when):
     """(dx, dy, h) of the surface at sites `xy` (2, m) at `when`: where their water is."""
-    h, d = source.displacement(xy, when)
+    h, d = source.displacement(xy, when, origin=(0.0, 0.0))
     return (0.0, 0.0, h) if d is None else (d[0], d[1], h)
