@@ -192,8 +192,7 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     (foam.crest_calibration), so a launch never changes with the frame that shows it; it
     throws PER_LAUNCH puffs over the step after, the crest carrying it on meanwhile."""
     when = k * STEP
-    ix, iy, xy = (np.concatenate(v, axis=-1) for v in zip(*(sites(*b, ring) for b in near),
-                                                          strict=True))
+    ix, iy, xy = _joined([sites(*b, ring) for b in near], axis=-1)
     level, thresholds = foam.crest_calibration(source, when, wind_speed)
     # from the world's origin: a block's launches are the same whatever blocks join them
     cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32), origin=(0.0, 0.0))
@@ -242,8 +241,13 @@ def spray(source, time, centre, wedge, level, wind_speed, wind_direction, seed=0
         if p is not None]
     if not parts:
         return None
-    positions, radii, opacities = (np.concatenate(v) for v in zip(*parts, strict=True))
+    positions, radii, opacities = _joined(parts)
     return positions, radii.astype(np.float32), opacities.astype(np.float32)
+
+
+def _joined(parts, axis=0):
+    """Each of the parts' arrays, in order, joined across the parts (along `axis`)."""
+    return tuple(np.concatenate(v, axis=axis) for v in zip(*parts, strict=True))
 
 
 def _gathered(source, near, k, wind_speed, wind_direction, seed, ring):
@@ -254,20 +258,22 @@ def _gathered(source, near, k, wind_speed, wind_direction, seed, ring):
     found = [p for p in LAUNCHES.get(source, keys, lambda missing: launches(
         source, [key[1:3] for key in missing], k, wind_speed, wind_direction, seed, ring))
         if p[0].size]
-    return tuple(np.concatenate(v) for v in zip(*found, strict=True)) if found else ()
+    return _joined(found) if found else ()
 
 
 def _ring(source, time, centre, wedge, level, wind_speed, wind_direction, seed, ring):
     """`spray`'s puffs from one ring's sites (None: none)."""
     near = blocks(centre, wedge, ring)
     view = (ring, float(wind_speed), float(wind_direction), seed, near)
-    found = [p for p in GATHERED.get(source, [(*view, k) for k in launch_times(time)],
-                                     lambda missing: [_gathered(
-                                         source, near, key[-1], wind_speed, wind_direction,
-                                         seed, ring) for key in missing]) if p]
+
+    def make(missing):
+        return [_gathered(source, near, key[-1], wind_speed, wind_direction, seed, ring)
+                for key in missing]
+    found = [p for p in GATHERED.get(source, [(*view, k) for k in launch_times(time)], make)
+             if p]
     if not found:
         return None
-    born, x0, v0, tau, walk, start = (np.concatenate(v) for v in zip(*found, strict=True))
+    born, x0, v0, tau, walk, start = _joined(found)
     age = time - born
     weight = ring_weight(np.hypot(x0[:, 0] - centre[0], x0[:, 1] - centre[1]), ring)
     live = np.flatnonzero((age >= 0.0) & (age < LIFE) & (weight > 0.0))
