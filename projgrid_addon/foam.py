@@ -370,19 +370,20 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     whitecaps breaking now (when `crests`; `whitecaps`, stage A) and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum; residual: the patches the
     whitecaps of the past seconds left (residual_foam, stage B). `result` is the frame's
-    GridResult: the cue is taken at its grid points before any choppy displacement, and from
-    the grid itself where the source asks for it (the spectrum's folding)."""
+    GridResult: the cue is taken at its grid points before any choppy displacement, from the
+    grid itself where the source asks for it (the spectrum's folding: its `crest` sum)."""
     foam = residual = None
     surface = result.surface
     if crests:
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lods = result.lod.reshape(xy.shape[1:])
         placed, thresholds = crest_calibration(source, time, wind_speed)
-        # Some vertex finer: the cue without the shorter waves, sampled again at every other
-        # point each way over the whole grid (so a band limit one lower everywhere, the far
-        # rows' too, where the grid's own cue would do), its thresholds those of the waves
-        # `placed` keeps over the spacing the points have (foam_thresholds).
-        if lods.max() > placed:
+        # The cue of the waves `placed` keeps, its thresholds those over the points' spacing
+        # (foam_thresholds): without a crest sum, sampled again where some vertex is finer,
+        # at every other point each way (a band limit one lower everywhere).
+        if result.crest is not None:
+            foam = whitecaps(source.crest_cue(xy, result.crest), lods, thresholds)
+        elif lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
                 residual_foam.cue_at(source, points, time, at, placed), at, thresholds),
                 xy, lods, 1)

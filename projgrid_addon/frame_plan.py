@@ -142,10 +142,11 @@ def plan(inputs):
     level = float(inputs.world[2, 3])
     facts = replace(inputs.facts, bound=bound,
                     reach=min(bound, effects.REACH_SIGMAS * hf.spread[0]))
-    result = build_grid(cam, hf, level=level, time=t, resolution=inputs.resolution,
-                        projector_elevation=s.projector_elevation, origin=inputs.world[:3, 3])
     decisions = effects.decide({e: getattr(s, e) for e in effects.EFFECTS}, facts)
     on = {e: d[0] for e, d in decisions.items()}
+    result = build_grid(cam, hf, level=level, time=t, resolution=inputs.resolution,
+                        projector_elevation=s.projector_elevation, origin=inputs.world[:3, 3],
+                        crest=foam.whitecap_level(hf) if on["foam"] else None)
     visible = result.visible
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
     whitecaps, residual = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes,

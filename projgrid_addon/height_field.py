@@ -226,12 +226,14 @@ class HeightField:
         """`heights` at a (2, ...) array of x and y, as the grid builds them."""
         return self._evaluate(xy, t, lod, False)[0]
 
-    def displacement(self, xy, t, lod=None, on_grid=False, origin=None):
+    def displacement(self, xy, t, lod=None, on_grid=False, origin=None, crest=None):
         """(h, (dx, dy) or None) at a (2, ...) array of x and y: the height and, with
         choppiness, the horizontal displacement toward the crests. (`on_grid`, that xy are a
-        grid's vertices, and `origin` are for the spectral source: each octave here is sampled
-        at every vertex, point by point.)"""
-        return self._evaluate(xy, t, lod, self.choppiness > 0.0)
+        grid's vertices, `origin` and `crest` are for the spectral source: each octave here is
+        sampled at every vertex, point by point, and its foam's cue is its height, so a
+        `crest` adds None.)"""
+        h, d = self._evaluate(xy, t, lod, self.choppiness > 0.0)
+        return (h, d) if crest is None else (h, d, None)
 
     def _evaluate(self, xy, t, lod, choppy):
         """An octave is evaluated only on the rows (last axis = columns) between the first and

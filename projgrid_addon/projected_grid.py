@@ -49,6 +49,9 @@ class GridResult:
     extent: Extent | None = None  # the displaceable volume the grid was built for
     # ((nx,), (ny,)) float64: each column's u and each row's v in the span (Projector.spacing)
     spacing: tuple | None = None
+    # (2, ny, nx) float32: the sideways displacement of the waves up to the whitecaps' level
+    # (build_grid's `crest`; the foam's cue, foam.foam_field), or None
+    crest: np.ndarray | None = None
 
     @property
     def fitted(self):
@@ -211,7 +214,7 @@ def widened(points, side):
 
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
                projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector,
-               extent=None):
+               extent=None, crest=None):
     """Build the displaced projected grid for `camera` (a Camera or a (view, proj) pair).
 
     `height_field` is a height source (HeightField, SpectralField): it gives its `bounds(time)`
@@ -227,7 +230,8 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
 
     Positions are world space relative to `origin` (default the world origin; see
     `snapped_origin`). `aim` places the projector; it is a parameter so tests can substitute the
-    naive projector of §2.3 and show the stability suite catches it.
+    naive projector of §2.3 and show the stability suite catches it. `crest`, a band limit:
+    the result's `crest` is the displacement of the waves it keeps (the source's crest sum).
     """
     if not isinstance(camera, Camera):
         camera = Camera(*camera)
@@ -239,7 +243,7 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     origin = np.zeros(3) if origin is None else np.asarray(origin, dtype=np.float64)
     if origin.shape != (3,) or not np.all(np.isfinite(origin)):
         raise ValueError(f"origin: expected a finite 3-vector, got {origin!r}")
-    args = (camera, hf, level, time, (nx, ny), elevation, band_limit, origin, aim)
+    args = (camera, hf, level, time, (nx, ny), elevation, band_limit, origin, aim, crest)
     if extent is not None:
         return _grid(*args, extent)
     full = Extent.true_bounds(hf, time)
@@ -323,7 +327,8 @@ def border_outside(camera, result, level):
                if c)
 
 
-def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, aim, extent):
+def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, aim, crest,
+          extent):
     """The grid for the displaceable volume of `extent` (§2.4 steps 2 to 7)."""
     nx, ny = resolution
     points = visible_volume_points(camera, level, extent.upper, extent.lower)
@@ -360,7 +365,7 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
             xy[k, rows] /= hw
         if band_limit:
             lod_from_w(steps, rows, hw, lod[rows])
-    h, d = hf.displacement(xy, time, lod, on_grid=True)
+    h, d, *crests = hf.displacement(xy, time, lod, on_grid=True, crest=crest)
     base = None
     if d is not None:
         base = xy
@@ -374,4 +379,5 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
     shader = hf.shader_octaves(lod)
     lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
-                      (nx, ny), origin, camera, base, extent, (u, v[:, 0]))
+                      (nx, ny), origin, camera, base, extent, (u, v[:, 0]),
+                      crests[0] if crests else None)

@@ -25,6 +25,7 @@ import hashlib
 import threading
 import weakref
 from collections import OrderedDict
+from functools import lru_cache
 
 import numpy as np
 
@@ -80,6 +81,7 @@ def samples(time, tau):
     return out
 
 
+@lru_cache(maxsize=64)  # the same few decay times every frame
 def _laid(step, tau):
     """The weights' sum, e^(-age / tau) over the samples, ramps and all, times the step: its
     mean over where `time` falls within a step (its swing over a step is under 2 %)."""

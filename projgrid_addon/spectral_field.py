@@ -33,15 +33,8 @@ from functools import cached_property
 import numpy as np
 
 from . import shading, spectrum
-from .band_limit import (
-    along_waves,
-    every_other_of,
-    every_other_shape,
-    fill_every_other,
-    octave_weights,
-    row_jobs,
-    row_parts,
-)
+from .band_limit import along_waves
+from .band_sum import sum_bands
 from .cascade import (
     BAND_LONGEST,
     BANDS,
@@ -62,7 +55,6 @@ from .cascade import (
 from .projected_grid import grid_jacobian
 from .scratch import each, row_step, scratch
 from .slope_layer import SlopeLayer
-from .tiles import Lookup
 from .validation import finite, integer, non_negative
 from .warp import Warp
 
@@ -159,6 +151,11 @@ class SpectralField:
         """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
         lowest (Jensen and Golias). See `jacobian`."""
         return -self.jacobian(xy, t, lod, grid, band, origin)
+
+    def crest_cue(self, xy, crest):
+        """`foam_cue` at a grid's points xy (2, rows, columns) from their crest sum (`sample`'s
+        `crest`): by differences between neighbours, as the mesh shows the folding."""
+        return -grid_jacobian(xy, xy + crest)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -259,13 +256,15 @@ class SpectralField:
         _, _, bound, side, _ = self._at(t)
         return bound, side
 
-    def sample(self, xy, t, lod=None, fields=(0,), on_grid=False, origin=None):
+    def sample(self, xy, t, lod=None, fields=(0,), on_grid=False, origin=None, crest=None):
         """The sum over tiles of `fields` (indices into FIELDS) at world points xy (2, ...),
         each band weighted by the band limit (`lod`, as the grid gives it, or None): (len(fields),
         ...) float64; for a tuple of times `t`, (len(t), len(fields), ...), each tile located once.
         `on_grid`: xy (2, rows, columns) are a grid's vertices, neighbours both ways, so a band
         long against the spacing is sampled on every other row and column (band_limit.COARSE).
-        `origin` (x, y): every chunk's offsets' (None: `_origin`), so each point's are its own."""
+        `origin` (x, y): every chunk's offsets' (None: `_origin`), so each point's are its own.
+        `crest` (a band limit; `fields` holding SIDEWAYS): (sums, crest sums), the latter the
+        SIDEWAYS fields of the waves min(lod, crest) keeps (band_sum.py), float32."""
         times = t if isinstance(t, tuple) else (t,)
         textures = [self._at(when, fields)[1] for when in times]
         xy = np.asarray(xy, dtype=np.float64)
@@ -273,6 +272,8 @@ class SpectralField:
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
         out = np.empty((len(times), len(fields)) + shape)
         xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(times), len(fields)) + rows)
+        crests = None if crest is None else np.empty((len(times), 2) + shape, np.float32)
+        crests2 = None if crest is None else crests.reshape((len(times), 2) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         on_grid = on_grid and lod2 is not None and len(shape) == 2
         lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
@@ -288,10 +289,16 @@ class SpectralField:
             self.warp(at, points[:2], out=points[2:])
             sums = scratch("sums", out2[:, :, band].shape, np.float32)  # summed in single
             sums.fill(0.0)
-            self._sum(textures, at, points, [None if g is None else g[band] for g in lods],
-                      fields, sums, on_grid)
+            crest_sums = None if crest is None else (crest, scratch(
+                "crest sums", crests2[:, :, band].shape, np.float32))
+            sum_bands(self, textures, at, points, [None if g is None else g[band] for g in lods],
+                      fields, sums, on_grid, crest_sums)
             out2[:, :, band] = sums
+            if crest is not None:
+                crests2[:, :, band] = crest_sums[1]
         each(chunk, range(0, out2.shape[2], step))
+        if crest is not None:
+            return (out, crests) if isinstance(t, tuple) else (out[0], crests[0])
         return out if isinstance(t, tuple) else out[0]
 
     @staticmethod
@@ -303,62 +310,13 @@ class SpectralField:
         i = np.unravel_index(np.argmax(lod), lod.shape)
         return xy[:, i[0], i[1]].copy()
 
-    def _sum(self, textures, origin, points, lods, fields, out, on_grid):
-        """Add the bands' `fields` (of `textures`: per time, per cascade) at origin + offsets
-        into `out` (times, fields, rows, columns), band by band (its tiles share its rows and
-        coarse part; `lods`: each of self.groups' band limit), each tile read where the warp
-        turned by its own turn moves the points `points` (4, rows, columns: offsets, warp)."""
-        mins = {}
-        for (level, _, tiles), lod in zip(self.groups, lods, strict=True):
-            if not self.cascades[tiles[0]].gives.intersection(fields):
-                continue
-            if on_grid and id(lod) not in mins:
-                mins[id(lod)] = lod.min(axis=1)
-            row_min = mins.get(id(lod))
-            job = row_jobs(lod, level)
-            if job is None:
-                continue
-            fine, coarse = [job], None
-            if on_grid:
-                fine, coarse = row_parts(lod, row_min, level, *job)
-            for rows, weighted in fine:
-                weight = None
-                if weighted:
-                    weight = octave_weights(lod[rows], level,
-                                            scratch("weights", lod[rows].shape, lod.dtype))
-                for j in tiles:
-                    self._add(textures, j, points[:, rows], origin, fields, out[:, :, rows],
-                              weight)
-            if coarse is not None:
-                few = every_other_of(points[:, coarse], scratch(
-                    "few", (4,) + every_other_shape(points[0, coarse].shape), np.float32))
-                sums = scratch("coarse", out.shape[:2] + few.shape[1:], np.float32)
-                sums.fill(0.0)
-                for j in tiles:
-                    self._add(textures, j, few, origin, fields, sums, None)
-                filled = scratch("filled", out[0, 0, coarse].shape, np.float32)
-                for k in range(out.shape[0]):
-                    for i in range(len(fields)):
-                        out[k, i, coarse] += fill_every_other(sums[k, i], filled)
-
-    def _add(self, textures, j, points, origin, fields, out, weight):
-        """Add tile j's `fields` (of each time's `textures`) at `points` as `_sum`'s into `out`,
-        times `weight` if given."""
-        cascade = self.cascades[j]
-        where = Lookup.turned(cascade.texels, points, origin, cascade.texels / cascade.size,
-                              cascade.turn, shift_turn=Warp.turn(j))
-        for at, into in zip(textures, out, strict=True):
-            for i, f in enumerate(fields):
-                if f not in at[j]:  # a field the tile does not hold: 0
-                    continue
-                v = where.sample(at[j][f])
-                if weight is not None:
-                    v *= weight
-                into[i] += v
-
-    def displacement(self, xy, t, lod=None, on_grid=False, origin=None):
+    def displacement(self, xy, t, lod=None, on_grid=False, origin=None, crest=None):
         """(h, (dx, dy) or None) at world points xy (2, ...): the height and, with choppiness,
-        the horizontal displacement (`on_grid`, `origin`: `sample`'s)."""
+        the horizontal displacement (`on_grid`, `origin`: `sample`'s); with `crest` (a band
+        limit) also the crest sum (`sample`'s: the foam's cue, with or without choppiness)."""
+        if crest is not None:
+            (h, dx, dy), crests = self.sample(xy, t, lod, GEOMETRY, on_grid, origin, crest)
+            return h, None if self.choppiness == 0.0 else np.stack([dx, dy]), crests
         if self.choppiness == 0.0:
             return self.sample(xy, t, lod, (0,), on_grid, origin)[0], None
         h, dx, dy = self.sample(xy, t, lod, GEOMETRY, on_grid, origin)

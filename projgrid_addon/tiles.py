@@ -105,24 +105,25 @@ class Lookup:
         self.idx = scratch("idx" + tag, shape, np.intp)
         np.multiply(ij[1], size, out=self.idx)
         self.idx += ij[0]
-        self.tag = tag
-
-    def _patch(self, texture):
-        patch = scratch("patch" + self.tag, self.shape, np.complex128)
-        np.take(texture, self.idx, out=patch, mode="wrap")  # "raise" would buffer `out`
-        return patch.view(np.float32).reshape(self.shape + (4,))
+        # Every sample's buffers, taken once here: a lookup is sampled for many textures, and
+        # at a few thousand points the calls cost as much as the arithmetic.
+        self._patch = scratch("patch" + tag, shape, np.complex128)
+        coefficients = self._patch.view(np.float32).reshape(shape + (4,))
+        self._coefficients = tuple(coefficients[..., k] for k in range(4))
+        self._n = scratch("n" + tag, shape, np.float32)
+        self._t = scratch("t" + tag, shape, np.float32)
 
     def sample(self, texture, out=None):
         """The texture's bilinear value at the points (float32, into `out` if given, else a
-        scratch array valid until the next sample of this tag)."""
-        p = self._patch(texture)
-        fx, fy = self.frac[0], self.frac[1]
-        n = out if out is not None else scratch("n" + self.tag, self.shape, np.float32)
-        np.multiply(p[..., 3], fx, out=n)
-        n += p[..., 2]
+        scratch array valid until the next sample of this lookup's tag)."""
+        np.take(texture, self.idx, out=self._patch, mode="wrap")  # "raise" would buffer `out`
+        a, b, c, d = self._coefficients
+        fx, fy = self.frac
+        n = self._n if out is None else out
+        np.multiply(d, fx, out=n)
+        n += c
         n *= fy
-        t = scratch("t" + self.tag, self.shape, np.float32)
-        np.multiply(p[..., 1], fx, out=t)
-        n += t
-        n += p[..., 0]
+        np.multiply(b, fx, out=self._t)
+        n += self._t
+        n += a
         return n

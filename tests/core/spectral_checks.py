@@ -1,6 +1,7 @@
 """What the spectral sea's tests measure it with (only tests use these)."""
 
 import numpy as np
+import pytest
 
 from projgrid_addon.scratch import CHUNK
 from projgrid_addon.tiles import Lookup, periodic_patches
@@ -48,3 +49,16 @@ def autocorrelation(source, lags, fine=4, samples=256):
                     Warp.turn(j)).sample(acf)
     out = out.reshape(lags.shape[1:]) / len(shifts) if flat.shape[1] else out
     return out / source.spread[0] ** 2 if source.cascades else out
+
+
+def assert_spreads_alike(mesh, apart, lod, least=3):
+    """The cue a frame's mesh shows (`mesh`) spreads as the calibration's at the same band
+    limits (`apart`, points apart): within 10 % in each half level of `lod` that holds over
+    2000 points, of which there are at least `least`."""
+    compared = 0
+    for low in np.arange(np.floor(lod.min()), np.ceil(lod.max()), 0.5):
+        inside = (lod >= low) & (lod < low + 0.5)
+        if inside.sum() > 2000:
+            assert mesh[inside].std() == pytest.approx(apart[inside].std(), rel=0.1), low
+            compared += 1
+    assert compared >= least

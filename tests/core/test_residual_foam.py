@@ -48,7 +48,8 @@ def test_a_frame_s_residual_foam_is_the_same_with_its_past_kept_or_made(monkeypa
     cam = (look_at(eye, eye + (0.0, 1.0, -0.3)), perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
 
     def frame(source, t):
-        result = build_grid(cam, source, time=t, resolution=(65, 129))
+        result = build_grid(cam, source, time=t, resolution=(65, 129),
+                            crest=foam.whitecap_level(source))
         return foam.foam_field(source, result, t, preset.wind_speed, True, [], 0.0)
 
     cold = frame(SpectralField(state, choppiness=preset.choppiness, seed=5), 30.0)

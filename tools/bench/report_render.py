@@ -355,11 +355,10 @@ def _storm(report):
                 f"{r['ratio']:.2f}×", r["ratio"] <= 1.3,
                 f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
                 "screen (waves to the horizon), so more vertices are near and detailed, each "
-                "with more bands to sample; the whitecaps take the waves longer than 8 m alone, "
-                "a second sampling of the sea" + (
-                    ", and the residual foam's past samples are new each frame (a moving "
-                    "camera's grid is new)." if camera == "moving" else
-                    " (the residual foam's past samples are kept while the camera stays).")))
+                "with more bands to sample; the spray adds its puffs; the residual foam's "
+                "past samples are " + (
+                    "new each frame (a moving camera's grid is new)." if camera == "moving" else
+                    "kept while the camera stays.")))
         if r["what"] == "with stage B / without":
             report.targets.append(Target(
                 "A gale rendered with its residual foam (stage B) ≤ 1.1× without it",
