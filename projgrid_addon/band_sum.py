@@ -3,11 +3,12 @@ by the band limit (thesis §3.2, band_limit.py), and with it the crest sum: the 
 displacement of the waves up to a band limit `cap` (the whitecaps' level, foam.whitecap_level),
 which the foam's cue is taken from (foam.foam_field) without sampling the sea again.
 
-The bands come longest first (but for a swell's core, last), so the crest sum is, for most
-bands, a copy of the running sum once the bands it keeps whole are in: every band with
-level + 1 <= cap, summed before the first that is not, is what the crest sum holds of them;
-the band `cap` falls within is added to both, each with its own weight, and any band after
-it that the cap keeps (the swell's core) is added to both."""
+The bands come longest first, so the crest sum is, for most bands, a copy of the running sum
+once the bands it keeps whole are in: every band with level + 1 <= cap, summed before the
+first that is not, is what the crest sum holds of them; the band `cap` falls within is added
+to both, each with its own weight (`crest_weights`), and so is any later band the cap keeps
+(none in a sea laid out by cascade.layout: the one band out of order, a swell's core, is not
+displaced sideways)."""
 
 import numpy as np
 
@@ -40,7 +41,7 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
         if not sea.cascades[tiles[0]].gives.intersection(fields):
             continue
         if not copied and level + 1.0 > cap:  # every band the cap keeps whole is in
-            into[...] = out[:, sideways]
+            _copy(out, sideways, into)
             copied = True
         keeps = copied and cap is not None and level < cap  # in the crest sum too
         if on_grid and id(lod) not in mins:
@@ -59,9 +60,8 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
                                         scratch("weights", lod[rows].shape, lod.dtype))
             part = None
             if keeps:  # a band the cap keeps whole where the points do: the same weight
-                part = (into[:, :, rows], weight if level + 1.0 <= cap else octave_weights(
-                    np.minimum(lod[rows], np.float32(cap)), level,
-                    scratch("crest weights", lod[rows].shape, lod.dtype)))
+                part = (into[:, :, rows], weight if level + 1.0 <= cap else crest_weights(
+                    None if lod is None else lod[rows], level, cap))
             for j in tiles:
                 _add(sea, textures, j, points[:, rows], origin, fields, out[:, :, rows],
                      weight, part)
@@ -73,7 +73,7 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
             for j in tiles:
                 _add(sea, textures, j, few, origin, fields, sums, None, None)
             filled = scratch("filled", out[0, 0, coarse].shape, np.float32)
-            share = np.float32(min(cap - level, 1.0)) if keeps else None
+            share = crest_weights(None, level, cap) if keeps else None
             for k in range(out.shape[0]):
                 for i in range(len(fields)):
                     fill_every_other(sums[k, i], filled)
@@ -81,7 +81,22 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
                     if share is not None and i in sideways:
                         into[k, sideways.index(i), coarse] += filled * share
     if not copied:
-        into[...] = out[:, sideways]
+        _copy(out, sideways, into)
+
+
+def crest_weights(lod, level, cap):
+    """The crest sum's weight of the band at `level`: its band limit weight at min(lod, cap)
+    (band_limit.octave_weights), at the cap alone where `lod` is None (every band whole, or
+    rows that keep the band whole)."""
+    if lod is None:
+        return np.float32(min(max(cap - level, 0.0), 1.0))
+    return octave_weights(np.minimum(lod, np.float32(cap)), level,
+                          scratch("crest weights", lod.shape, lod.dtype))
+
+
+def _copy(out, sideways, into):
+    """The running sums' SIDEWAYS fields into the crest sum."""
+    into[...] = out[:, sideways]
 
 
 def _add(sea, textures, j, points, origin, fields, out, weight, part):

@@ -381,8 +381,8 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         # The cue of the waves `placed` keeps, its thresholds those over the points' spacing
         # (foam_thresholds): without a crest sum, sampled again where some vertex is finer,
         # at every other point each way (a band limit one lower everywhere).
-        if result.crest is not None:
-            foam = whitecaps(source.crest_cue(xy, result.crest), lods, thresholds)
+        if result.crest is not None and result.crest[0] == placed:
+            foam = whitecaps(source.grid_cue(xy, xy + result.crest[1]), lods, thresholds)
         elif lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
                 residual_foam.cue_at(source, points, time, at, placed), at, thresholds),

@@ -49,9 +49,9 @@ class GridResult:
     extent: Extent | None = None  # the displaceable volume the grid was built for
     # ((nx,), (ny,)) float64: each column's u and each row's v in the span (Projector.spacing)
     spacing: tuple | None = None
-    # (2, ny, nx) float32: the sideways displacement of the waves up to the whitecaps' level
-    # (build_grid's `crest`; the foam's cue, foam.foam_field), or None
-    crest: np.ndarray | None = None
+    # (cap, (2, ny, nx) float32): the source's crest sum at band limit `cap` (build_grid's
+    # `crest`: the sideways displacement of the waves it keeps), or None
+    crest: tuple | None = None
 
     @property
     def fitted(self):
@@ -231,7 +231,8 @@ def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
     Positions are world space relative to `origin` (default the world origin; see
     `snapped_origin`). `aim` places the projector; it is a parameter so tests can substitute the
     naive projector of §2.3 and show the stability suite catches it. `crest`, a band limit:
-    the result's `crest` is the displacement of the waves it keeps (the source's crest sum).
+    the result's `crest` is (it, the source's crest sum: the sideways displacement of the waves
+    it keeps), None from a source without one.
     """
     if not isinstance(camera, Camera):
         camera = Camera(*camera)
@@ -380,4 +381,4 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
     lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
                       (nx, ny), origin, camera, base, extent, (u, v[:, 0]),
-                      crests[0] if crests else None)
+                      (crest, crests[0]) if crests and crests[0] is not None else None)

@@ -152,10 +152,10 @@ class SpectralField:
         lowest (Jensen and Golias). See `jacobian`."""
         return -self.jacobian(xy, t, lod, grid, band, origin)
 
-    def crest_cue(self, xy, crest):
-        """`foam_cue` at a grid's points xy (2, rows, columns) from their crest sum (`sample`'s
-        `crest`): by differences between neighbours, as the mesh shows the folding."""
-        return -grid_jacobian(xy, xy + crest)
+    def grid_cue(self, xy, moved):
+        """`foam_cue` of a grid's points xy (2, rows, columns) displaced to `moved` (by the
+        crest sum, say: `sample`'s `crest`), between neighbours as the mesh shows it."""
+        return -grid_jacobian(xy, moved)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""

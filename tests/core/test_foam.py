@@ -252,7 +252,7 @@ def test_a_frame_s_folding_spreads_as_the_calibration_s():
     xy = result.base
     lod = result.lod.reshape(xy.shape[1:])
     mesh = source.foam_cue(xy, 6.0, lod, grid=np.stack(result.surface[:2]))[1:-1, 1:-1]
-    crest = source.crest_cue(xy, result.crest)[1:-1, 1:-1]
+    crest = source.grid_cue(xy, xy + result.crest[1])[1:-1, 1:-1]
     lod = lod[1:-1, 1:-1]
     assert_spreads_alike(mesh, source.foam_cue(xy[:, 1:-1, 1:-1], 6.0, lod), lod)
     assert_spreads_alike(crest, foam.crest_cue(source, xy[:, 1:-1, 1:-1], 6.0, lod), lod)
@@ -361,10 +361,11 @@ def test_active_and_residual_foam_cover_monahan_s_share(force):
     lod = np.full(xy.shape[1:], band_limit.lod_for_spacing(source.wave_scale, 3.0), np.float32)
     shares = []
     for t in (20.0, 27.3, 34.9):
-        sideways, crest = source.sample(xy, t, lod, (1, 2), crest=foam.whitecap_level(source))
+        placed = foam.whitecap_level(source)
+        sideways, crest = source.sample(xy, t, lod, (1, 2), crest=placed)
         moved = xy + sideways  # a frame's grid (build_grid), here square
         grid = types.SimpleNamespace(base=xy, surface=(moved[0], moved[1], None), lod=lod,
-                                     crest=crest)
+                                     crest=(placed, crest))
         active, residual = foam.foam_field(source, grid, t, preset.wind_speed, True, [], 0.0)
         shares.append((active.mean(), (active + (1.0 - active) * residual).mean()))
     active, total = np.mean(shares, axis=0)
