@@ -382,7 +382,7 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
         # (foam_thresholds): without a crest sum, sampled again where some vertex is finer,
         # at every other point each way (a band limit one lower everywhere).
         if result.crest is not None and result.crest[0] == placed:
-            foam = whitecaps(source.grid_cue(xy, xy + result.crest[1]), lods, thresholds)
+            foam = whitecaps(source.grid_cue(xy, result.crest[1]), lods, thresholds)
         elif lods.max() > placed:
             foam = residual_foam.on_coarse(lambda points, at: whitecaps(
                 residual_foam.cue_at(source, points, time, at, placed), at, thresholds),

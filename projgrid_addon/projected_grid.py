@@ -157,20 +157,20 @@ def snapped_origin(camera, level, cell=1024.0):
     return np.array([xy[0], xy[1], level])
 
 
-def grid_derivative(a, axis):
+def grid_derivative(a, axis, dtype=None):
     """Differences between grid neighbours along `axis` of an (ny, nx) array: central inside,
     one-sided at the borders (the step is one grid cell either way, halved nowhere: callers take
-    ratios or directions)."""
-    out = np.empty_like(a)
+    ratios or directions); of `dtype` if given (taken in `a`'s, then rounded)."""
+    out = np.empty(a.shape, a.dtype if dtype is None else dtype)
     cut = [slice(None)] * 2
 
     def at(s):
         cut[axis] = s
         return tuple(cut)
 
-    out[at(slice(1, -1))] = a[at(slice(2, None))] - a[at(slice(0, -2))]
-    out[at(0)] = a[at(1)] - a[at(0)]
-    out[at(-1)] = a[at(-1)] - a[at(-2)]
+    for into, (hi, lo) in ((slice(1, -1), (slice(2, None), slice(0, -2))), (0, (1, 0)),
+                           (-1, (-1, -2))):
+        np.subtract(a[at(hi)], a[at(lo)], out=out[at(into)], casting="same_kind")
     return out
 
 
@@ -181,11 +181,25 @@ def grid_area(x, y):
     return d(x, 1) * d(y, 0) - d(x, 0) * d(y, 1)
 
 
-def grid_jacobian(base, moved):
-    """det(d moved / d(i, j)) / det(d base / d(i, j)) over a grid: x and y (rows, columns)."""
-    area = grid_area(base[0], base[1])
-    return np.divide(grid_area(moved[0], moved[1]), area, out=np.ones_like(area),
-                     where=area != 0.0)
+def grid_jacobian(base, shift):
+    """det(d(base + shift) / d(i, j)) / det(d base / d(i, j)) over a grid: x and y (rows,
+    columns) of its points and of their displacement, float32 (`grid_derivative`s: the base's
+    taken in double precision, the points may be far off; the rest in single, a Jacobian
+    needs no more)."""
+    d = grid_derivative
+    bx1, by0, bx0, by1 = (d(base[k], axis, np.float32)
+                          for k, axis in ((0, 1), (1, 0), (0, 0), (1, 1)))
+    sx1, sy0, sx0, sy1 = (d(np.asarray(shift[k], np.float32), axis)
+                          for k, axis in ((0, 1), (1, 0), (0, 0), (1, 1)))
+    area = bx1 * by0
+    area -= bx0 * by1
+    sx1 += bx1
+    sy0 += by0
+    sx0 += bx0
+    sy1 += by1
+    moved = sx1 * sy0
+    moved -= sx0 * sy1
+    return np.divide(moved, area, out=np.ones_like(area), where=area != 0.0)
 
 
 def grid_normals(x, y, z):

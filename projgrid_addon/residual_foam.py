@@ -102,10 +102,11 @@ def cue_at(source, xy, time, lod, top=None):
     if top is not None:
         lod = np.minimum(lod, np.float32(top))
     times = time if isinstance(time, tuple) else (time,)
-    moved = [xy] * len(times)
-    if getattr(source, "choppiness", 0.0) > 0.0 and hasattr(source, "jacobian"):
-        moved = xy + source.sample(xy, times, lod, SIDEWAYS, on_grid=True)
-    cues = [source.foam_cue(xy, t, lod, grid=m) for t, m in zip(times, moved, strict=True)]
+    if hasattr(source, "grid_cue"):  # the spectrum's: its folding, on the grid
+        cues = [source.grid_cue(xy, shift)
+                for shift in source.sample(xy, times, lod, SIDEWAYS, on_grid=True)]
+    else:
+        cues = [source.foam_cue(xy, t, lod) for t in times]
     return cues if isinstance(time, tuple) else cues[0]
 
 

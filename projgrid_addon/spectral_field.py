@@ -152,10 +152,10 @@ class SpectralField:
         lowest (Jensen and Golias). See `jacobian`."""
         return -self.jacobian(xy, t, lod, grid, band, origin)
 
-    def grid_cue(self, xy, moved):
-        """`foam_cue` of a grid's points xy (2, rows, columns) displaced to `moved` (by the
-        crest sum, say: `sample`'s `crest`), between neighbours as the mesh shows it."""
-        return -grid_jacobian(xy, moved)
+    def grid_cue(self, xy, shift):
+        """`foam_cue` of a grid's points xy (2, rows, columns) displaced by `shift` (the crest
+        sum, say: `sample`'s `crest`), between neighbours as the mesh shows it."""
+        return -grid_jacobian(xy, shift)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -339,8 +339,8 @@ class SpectralField:
         `origin`: `sample`'s)."""
         xy = np.asarray(xy, dtype=np.float64)
         if grid is not None:
-            moved = xy + self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0 else grid
-            return grid_jacobian(xy, moved)
+            return grid_jacobian(xy, self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0
+                                 else grid - xy)
         top = max(self.levels, default=0.0) + 1.0  # every band whole: no finer spacing counts
         level = np.full(xy.shape[1:], top) if lod is None else np.minimum(lod, top)
         step = self.wave_scale * 2.0 ** -level / 2.0  # lod = log2(wave_scale / (2 spacing))

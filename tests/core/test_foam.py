@@ -252,7 +252,7 @@ def test_a_frame_s_folding_spreads_as_the_calibration_s():
     xy = result.base
     lod = result.lod.reshape(xy.shape[1:])
     mesh = source.foam_cue(xy, 6.0, lod, grid=np.stack(result.surface[:2]))[1:-1, 1:-1]
-    crest = source.grid_cue(xy, xy + result.crest[1])[1:-1, 1:-1]
+    crest = source.grid_cue(xy, result.crest[1])[1:-1, 1:-1]
     lod = lod[1:-1, 1:-1]
     assert_spreads_alike(mesh, source.foam_cue(xy[:, 1:-1, 1:-1], 6.0, lod), lod)
     assert_spreads_alike(crest, foam.crest_cue(source, xy[:, 1:-1, 1:-1], 6.0, lod), lod)
