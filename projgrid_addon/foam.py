@@ -234,14 +234,20 @@ def crest_calibration(source, time, wind_speed):
     """(level, thresholds): the band limit the whitecaps' cue is taken at where the grid is
     finer (`whitecap_level`) and the thresholds calibrated for the active whitecaps' share at
     `time` (`foam_thresholds`), of the seas `calibrated_at` gives, interpolated."""
-    parts = [(foam_thresholds(sea, time, active_coverage(sea, wind)), weight)
-             for sea, wind, weight in calibrated_at(source, wind_speed)]
+    parts = calibrated_seas(source, time, wind_speed)
     if len(parts) == 1:
-        return whitecap_level(source), parts[0][0]
+        return whitecap_level(source), parts[0][1]
     levels = np.asarray(source.foam_levels(), dtype=np.float64)
     thresholds, widths = (sum(weight * np.interp(levels, made[0], made[k])
-                              for made, weight in parts) for k in (1, 2))
+                              for _, made, weight in parts) for k in (1, 2))
     return whitecap_level(source), (levels, thresholds, widths)
+
+
+def calibrated_seas(source, time, wind_speed):
+    """((sea, its `foam_thresholds` at `time`, weight), ...) of the seas `calibrated_at`
+    gives."""
+    return [(sea, foam_thresholds(sea, time, active_coverage(sea, wind)), weight)
+            for sea, wind, weight in calibrated_at(source, wind_speed)]
 
 
 def calibrated_at(source, wind_speed):
@@ -354,24 +360,14 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
-def _grid_key(result):
-    """Bytes naming a frame's grid points (what they are a function of: the projector, its
-    span, the columns and rows, the origin), or None for a grid without a projector."""
-    projector = getattr(result, "projector", None)
-    if projector is None or getattr(result, "spacing", None) is None:
-        return None
-    return b"".join(np.ascontiguousarray(a, np.float64).tobytes() for a in (
-        projector.view, projector.span, *result.spacing, result.origin, result.extent.lower,
-        result.extent.upper, result.extent.side, result.resolution))
-
-
 def foam_field(source, result, time, wind_speed, crests, boxes, level):
     """Per-vertex foam of a frame in [0, 1]: (active, residual), either None when off. Active:
     whitecaps breaking now (when `crests`; `whitecaps`, stage A) and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum; residual: the patches the
-    whitecaps of the past seconds left (residual_foam, stage B). `result` is the frame's
-    GridResult: the cue is taken at its grid points before any choppy displacement, from the
-    grid itself where the source asks for it (the spectrum's folding: its `crest` sum)."""
+    whitecaps of the past seconds left (residual_foam, stage B: under a keyed wind, of the
+    lattice winds' seas `calibrated_at` gives, whose past each frame shares). `result` is the
+    frame's GridResult: the cue is taken at its grid points before any choppy displacement,
+    from the grid itself where the source asks for it (the spectrum's folding: its `crest`)."""
     foam = residual = None
     surface = result.surface
     if crests:
@@ -389,10 +385,11 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
                 xy, lods, 1)
         else:
             foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
-        residual = residual_foam.residual(
-            source, xy, lods, time, lambda at: at_thresholds(at, thresholds),
-            residual_foam.decay_time(source), _grid_key(result),
+        residual = sum(weight * residual_foam.residual(
+            sea, xy, lods, time, lambda at, made=made: at_thresholds(at, made),
+            residual_foam.decay_time(sea), residual_foam.grid_key(result),
             (1.0 - streaks.streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
+            for sea, made, weight in calibrated_seas(source, time, wind_speed))
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))

@@ -139,6 +139,17 @@ class Kept:
 PAST = Kept(48)  # past cues on a grid, by (grid, time)
 
 
+def grid_key(result):
+    """Bytes naming a frame's grid points (what they are a function of: the projector, its
+    span, the columns and rows, the origin), or None for a grid without a projector."""
+    projector = getattr(result, "projector", None)
+    if projector is None or getattr(result, "spacing", None) is None:
+        return None
+    return b"".join(np.ascontiguousarray(a, np.float64).tobytes() for a in (
+        projector.view, projector.span, *result.spacing, result.origin, result.extent.lower,
+        result.extent.upper, result.extent.side, result.resolution))
+
+
 def on_coarse(make, xy, lod, steps, top=None):
     """`make(points, lod)`, per-point values at the points given, taken at every other grid
     point each way `steps` times over (band_limit.every_other_of: 4^-steps of the points,
