@@ -93,36 +93,36 @@ def test_a_keyed_wind_s_waves_are_the_lattice_winds_interpolated():
 
 
 def test_a_keyed_wind_s_residual_foam_is_shared_between_frames_and_continuous(monkeypatch):
-    """Under a wind keyed from 8 to 10 m/s, each frame a sea of its own, the residual foam is
-    the lattice winds' seas' (each with its own decay time, so its past lattice of times is
-    fixed), weighted as their waves are: a frame after another, on the same grid, makes its
-    past cues only where a lattice time or a lattice wind is new (a sea of each frame's own
-    made them all, every frame), and the residual changes by less across a lattice wind
-    than within a frame's step elsewhere."""
-    from projgrid_addon import residual_foam
+    """Under a wind keyed from 8 to 10 m/s, each frame a sea of its own and a grid built for
+    it (as frame_plan does), the residual foam is the lattice winds' seas' (each with its own
+    decay time, so its past lattice of times is fixed), weighted as their waves are: a frame
+    after another transforms no tile at a past time unless a lattice time or a lattice wind
+    is new (a sea of each frame's own made them all, every frame), and the residual changes
+    by less across a lattice wind than within a frame's step elsewhere."""
+    from projgrid_addon import spectral_field
     from projgrid_addon.camera import look_at, perspective
     from projgrid_addon.projected_grid import build_grid
 
     made = []
-    real = residual_foam.cue_at
+    real = spectral_field.SpectralField._at
 
-    def counted(source, xy, when, lod, top=None):
-        made.append(len(when) if isinstance(when, tuple) else 1)
-        return real(source, xy, when, lod, top)
-    monkeypatch.setattr(residual_foam, "cue_at", counted)
+    def counted(sea, t, fields=spectral_field.GEOMETRY):
+        if t not in sea._moments and t < 2.0:  # a past sample's time: not the frame's
+            made.append((id(sea), t))
+        return real(sea, t, fields)
+    monkeypatch.setattr(spectral_field.SpectralField, "_at", counted)
     eye = np.array([0.0, 0.0, 8.0])
     cam = (look_at(eye, eye + (0.0, 1.0, -0.2)), perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
     span = (8.0, 10.0)
-    middle = SpectralField(SeaState(wind_speed=9.0), choppiness=1.0, seed=4, wind_span=span)
-    grid = build_grid(cam, middle, time=1.0, resolution=(33, 65),
-                      crest=foam.whitecap_level(middle))
     lattice = float(np.exp(np.ceil(np.log(8.5) / WIND_LATTICE) * WIND_LATTICE))
     frames, residuals = [], []
     for u in (8.50, 8.52, lattice * (1 - 1e-6), lattice * (1 + 1e-6), 8.62, 8.64):
         sea = SpectralField(SeaState(wind_speed=u), choppiness=1.0, seed=4, wind_span=span)
+        grid = build_grid(cam, sea, time=2.0, resolution=(33, 65),
+                          crest=foam.whitecap_level(sea))
         made.clear()
         residuals.append(foam.foam_field(sea, grid, 2.0, u, True, [], 0.0)[1])
-        frames.append(sum(made))
-    assert frames[1] == frames[5] == 0 and frames[0] > 0, frames  # the past kept, not made
+        frames.append(len(made))
+    assert frames[1] == frames[5] == 0 and frames[0] > 0, frames  # the tiles kept, not made
     steps = [np.abs(b - a).max() for a, b in zip(residuals[:-1], residuals[1:], strict=True)]
     assert steps[2] < 0.2 * min(steps[0], steps[4]) and max(steps) > 0.0, steps
