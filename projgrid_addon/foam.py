@@ -365,9 +365,10 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     whitecaps breaking now (when `crests`; `whitecaps`, stage A) and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum; residual: the patches the
     whitecaps of the past seconds left (residual_foam, stage B: under a keyed wind, of the
-    lattice winds' seas `calibrated_at` gives, whose past each frame shares). `result` is the
-    frame's GridResult: the cue is taken at its grid points before any choppy displacement,
-    from the grid itself where the source asks for it (the spectrum's folding: its `crest`)."""
+    lattice winds' seas `calibrated_at` gives, whose tiles at the past times frames share).
+    `result` is the frame's GridResult: the cue is taken at its grid points before any choppy
+    displacement, from the grid itself where the source asks for it (the spectrum's folding:
+    its `crest`)."""
     foam = residual = None
     surface = result.surface
     if crests:

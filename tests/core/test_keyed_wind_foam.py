@@ -5,8 +5,10 @@ the thresholds change continuously with the wind and the share foamed stays Mona
 import numpy as np
 import pytest
 
-from projgrid_addon import cascade, foam
+from projgrid_addon import cascade, foam, spectral_field
+from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.cascade import WIND_LATTICE, wind_lattice
+from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
 
@@ -99,10 +101,6 @@ def test_a_keyed_wind_s_residual_foam_is_shared_between_frames_and_continuous(mo
     after another transforms no tile at a past time unless a lattice time or a lattice wind
     is new (a sea of each frame's own made them all, every frame), and the residual changes
     by less across a lattice wind than within a frame's step elsewhere."""
-    from projgrid_addon import spectral_field
-    from projgrid_addon.camera import look_at, perspective
-    from projgrid_addon.projected_grid import build_grid
-
     made = []
     real = spectral_field.SpectralField._at
 
