@@ -120,16 +120,22 @@ def weather(scene, cloud):
 
 
 def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0, strength=SUN_STRENGTH):
-    """A sun lamp `elevation` degrees above the horizon, shining from `azimuth` (0 = from +Y)."""
+    """A sun lamp `elevation` degrees above the horizon, shining from `azimuth` (`aim`)."""
     data = bpy.data.lights.new(SUN, "SUN")
     data[TAG] = True
     data.energy = strength
     data.angle = math.radians(SUN_ANGLE[0])
     obj = bpy.data.objects.new(SUN, data)
-    # The lamp shines along its local -Z: tilt +Z from straight up down to the elevation.
-    obj.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(180.0 + azimuth))
+    aim(obj, elevation, azimuth)
     collection.objects.link(obj)
     return obj
+
+
+def aim(obj, elevation=SUN_ELEVATION, azimuth=0.0):
+    """Turn a sun lamp to shine from `elevation` degrees above the horizon and `azimuth` (0 =
+    from +Y, counter-clockwise seen from above)."""
+    # The lamp shines along its local -Z: tilt +Z from straight up down to the elevation.
+    obj.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(180.0 + azimuth))
 
 
 def strength(world):

@@ -2,7 +2,9 @@
 and from 40 m up, and straight down from 300 m (EEVEE, frame 48, the wind blowing away from the
 camera 30 degrees to the right of the view, so its streaks run toward a vanishing point, as in
 photographs taken downwind; across the view they lie along the foreshortened crests; seen from
-above, the white share as a photograph taken straight down measures it), written to docs/ as
+above, the white share as a photograph taken straight down measures it; the sun behind the
+camera, off its left shoulder, as sea states are photographed: out of the glitter, which hides
+the whitecaps in it), written to docs/ as
 beaufort_<force>_<height>m.png, and the share of the sea's pixels the foam whitens, beside
 Monahan and O'Muircheartaigh's whitecap share (effects.whitecap_coverage).
 
@@ -35,6 +37,9 @@ FRAME = 48  # the picture's, from the first view's place
 VIEWS = 9
 SHARE_SAMPLES = 4  # EEVEE's samples for the shares' renders: they read as 16 do, to 1 %
 WHITE = 0.5  # a pixel's foam cover from which it reads as white
+# deg, counter-clockwise from +Y (ahead of the camera): where the sun shines from, at Add
+# Ocean's elevation (shaders/sky.aim)
+SUN_AZIMUTH = 140.0
 
 
 def views(count):
@@ -143,6 +148,7 @@ def shoot(out, quick=False):
     import numpy as np
 
     from projgrid_addon import effects, streaks
+    from tools.bench.blender_bench import extension
     from tools.demo import default_shot
 
     size, samples = ((240, 135), SHARE_SAMPLES) if quick else ((480, 270), 16)
@@ -157,6 +163,9 @@ def shoot(out, quick=False):
             bpy.context.view_layer.objects.active = ocean
             bpy.ops.projgrid.sea_state(beaufort=force)
             ocean.projgrid.wind_direction = math.radians(WIND)
+            for obj in scene.objects:
+                if obj.type == "LIGHT" and obj.data.type == "SUN":
+                    extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
             group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
             name = f"beaufort_{force}_{int(height)}m.png"
             u = ocean.projgrid.wind_speed
