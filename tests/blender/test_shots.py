@@ -26,6 +26,11 @@ REFERENCE = os.path.join(os.path.dirname(__file__), "reference",
 UPDATING = bool(os.environ.get("PROJGRID_UPDATE_REFERENCES"))
 MEAN_TOL = 0.02
 OUTLIER_TOL, OUTLIER_SHARE = 0.1, 0.02
+# Pictures are compared over blocks of BLOCK x BLOCK pixels: the sun's glints and the foam's
+# specks are single pixels whose places move with the CPU's floating point (llvmpipe's vector
+# paths: one shot differed in 3 % of its pixels by over OUTLIER_TOL between two x86 machines,
+# in 0.6 % of its 2x2 blocks), a change of the look spans more.
+BLOCK = 2
 
 SHOTS = {  # name: (height, pitch, yaw) of the camera; the sun is low toward +Y
     "horizon": (6.0, 0.0, 180.0),  # sun behind the camera: no glint
@@ -37,6 +42,13 @@ SHOTS = {  # name: (height, pitch, yaw) of the camera; the sun is low toward +Y
 
 def read(path):
     return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3]
+
+
+def blocks(px):
+    """The picture's means over BLOCK x BLOCK pixels (the last partial row and column left
+    out)."""
+    h, w = px.shape[0] // BLOCK * BLOCK, px.shape[1] // BLOCK * BLOCK
+    return px[:h, :w].reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK, -1).mean(axis=(1, 3))
 
 
 def render_shot(name, tmp_path, gusts=1.0):
@@ -65,7 +77,7 @@ def compare_with_reference(name, path):
         oiio.ImageBuf(path).write(ref)
         return
     assert os.path.exists(ref), f"no reference {ref}: run with PROJGRID_UPDATE_REFERENCES=1"
-    diff = np.abs(read(path) - read(ref))
+    diff = np.abs(blocks(read(path)) - blocks(read(ref)))
     outliers = float((diff.max(axis=-1) > OUTLIER_TOL).mean())
     assert diff.mean() <= MEAN_TOL and outliers <= OUTLIER_SHARE, (diff.mean(), outliers)
 
