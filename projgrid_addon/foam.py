@@ -230,11 +230,12 @@ def at_thresholds(lod, calibration):
     return foam
 
 
-def crest_calibration(source, time, wind_speed):
+def crest_calibration(source, time, wind_speed, parts=None):
     """(level, thresholds): the band limit the whitecaps' cue is taken at where the grid is
     finer (`whitecap_level`) and the thresholds calibrated for the active whitecaps' share at
-    `time` (`foam_thresholds`), of the seas `calibrated_at` gives, interpolated."""
-    parts = calibrated_seas(source, time, wind_speed)
+    `time` (`foam_thresholds`), of the seas `calibrated_at` gives, interpolated (`parts`:
+    their `calibrated_seas`, if the caller has them)."""
+    parts = calibrated_seas(source, time, wind_speed) if parts is None else parts
     if len(parts) == 1:
         return whitecap_level(source), parts[0][1]
     levels = np.asarray(source.foam_levels(), dtype=np.float64)
@@ -374,7 +375,8 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
     if crests:
         xy = result.base if result.base is not None else np.stack(surface[:2])
         lods = result.lod.reshape(xy.shape[1:])
-        placed, thresholds = crest_calibration(source, time, wind_speed)
+        seas = calibrated_seas(source, time, wind_speed)
+        placed, thresholds = crest_calibration(source, time, wind_speed, seas)
         # The cue of the waves `placed` keeps, its thresholds those over the points' spacing
         # (foam_thresholds): without a crest sum, sampled again where some vertex is finer,
         # at every other point each way (a band limit one lower everywhere).
@@ -386,11 +388,11 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
                 xy, lods, 1)
         else:
             foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
+        grid = residual_foam.grid_key(result)
+        kept = (1.0 - streaks.streak_share(wind_speed)) / (1.0 - residual_foam.aged_share())
         residual = sum(weight * residual_foam.residual(
             sea, xy, lods, time, lambda at, made=made: at_thresholds(at, made),
-            residual_foam.decay_time(sea), residual_foam.grid_key(result),
-            (1.0 - streaks.streak_share(wind_speed)) / (1.0 - residual_foam.aged_share()), placed)
-            for sea, made, weight in calibrated_seas(source, time, wind_speed))
+            residual_foam.decay_time(sea), grid, kept, placed) for sea, made, weight in seas)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))

@@ -177,8 +177,14 @@ def grid_derivative(a, axis, dtype=None):
 def grid_area(x, y):
     """The signed area a grid cell's step spans, (dP/dj x dP/di)_z of points x, y (rows,
     columns), by `grid_derivative`: positive where the grid is counter-clockwise."""
-    d = grid_derivative
-    return d(x, 1) * d(y, 0) - d(x, 0) * d(y, 1)
+    return _cross(*(grid_derivative(a, axis) for a, axis in ((x, 1), (y, 0), (x, 0), (y, 1))))
+
+
+def _cross(x1, y0, x0, y1):
+    """x1 y0 - x0 y1 (into x1 * y0's array): a cell's area from its differences (`grid_area`)."""
+    out = x1 * y0
+    out -= x0 * y1
+    return out
 
 
 def grid_jacobian(base, shift):
@@ -191,14 +197,10 @@ def grid_jacobian(base, shift):
                           for k, axis in ((0, 1), (1, 0), (0, 0), (1, 1)))
     sx1, sy0, sx0, sy1 = (d(np.asarray(shift[k], np.float32), axis)
                           for k, axis in ((0, 1), (1, 0), (0, 0), (1, 1)))
-    area = bx1 * by0
-    area -= bx0 * by1
-    sx1 += bx1
-    sy0 += by0
-    sx0 += bx0
-    sy1 += by1
-    moved = sx1 * sy0
-    moved -= sx0 * sy1
+    area = _cross(bx1, by0, bx0, by1)
+    for moved, step in ((sx1, bx1), (sy0, by0), (sx0, bx0), (sy1, by1)):
+        moved += step  # the displaced points' differences
+    moved = _cross(sx1, sy0, sx0, sy1)
     return np.divide(moved, area, out=np.ones_like(area), where=area != 0.0)
 
 
