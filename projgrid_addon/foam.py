@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import residual_foam, streaks
+from . import past_grid, residual_foam, streaks
 from .cascade import wind_lattice
 from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
@@ -55,8 +55,7 @@ def foam_thresholds(source, time, coverage, samples=16384, kept=None):
     the spectrum's tiles hold finitely many waves, whose rare folds come and go: one threshold
     for all times let the cover drift between 0.55 and 1.6 times the coverage). So it is
     calibrated every FOAM_PERIOD seconds (`calibration`, kept in `kept`: CALIBRATIONS by
-    default) and interpolated between, and a frame is a function of the settings and its time
-    alone: a farm splitting frames renders the same foam."""
+    default) and interpolated between: a frame is a function of the settings and its time."""
     kept = CALIBRATIONS if kept is None else kept
     coverage = min(max(float(coverage), 1e-6), 1.0)
     t0 = float(np.floor(time / FOAM_PERIOD) * FOAM_PERIOD)
@@ -361,15 +360,15 @@ def contact_foam_width(bound):
     return CONTACT_FOAM_REACH + bound
 
 
-def foam_field(source, result, time, wind_speed, crests, boxes, level):
+def foam_field(source, result, time, wind_speed, crests, boxes, level, dolly=False):
     """Per-vertex foam of a frame in [0, 1]: (active, residual), either None when off. Active:
     whitecaps breaking now (when `crests`; `whitecaps`, stage A) and rings around the `boxes`
     crossing the water (contact foam), combined by their maximum; residual: the patches the
-    whitecaps of the past seconds left (residual_foam, stage B: under a keyed wind, of the
-    lattice winds' seas `calibrated_at` gives, whose tiles at the past times frames share).
-    `result` is the frame's GridResult: the cue is taken at its grid points before any choppy
-    displacement, from the grid itself where the source asks for it (the spectrum's folding:
-    its `crest`)."""
+    whitecaps of the past seconds left (residual_foam, stage B; for a `dolly` camera, its past
+    on canonical cameras' grids, past_grid; under a keyed wind, of the lattice winds' seas
+    `calibrated_at` gives, whose tiles at the past times frames share). `result` is the
+    frame's GridResult: the cue is taken at its grid points before any choppy displacement,
+    from the grid itself where the source asks for it (the spectrum's folding: its `crest`)."""
     foam = residual = None
     surface = result.surface
     if crests:
@@ -390,9 +389,10 @@ def foam_field(source, result, time, wind_speed, crests, boxes, level):
             foam = whitecaps(source.foam_cue(xy, time, lods, grid=surface[:2]), lods, thresholds)
         grid = residual_foam.grid_key(result)
         kept = (1.0 - streaks.streak_share(wind_speed)) / (1.0 - residual_foam.aged_share())
-        residual = sum(weight * residual_foam.residual(
-            sea, xy, lods, time, lambda at, made=made: at_thresholds(at, made),
-            residual_foam.decay_time(sea), grid, kept, placed) for sea, made, weight in seas)
+        residual = sum(weight * past_grid.residual_foam(
+            sea, result, xy, lods, time, lambda at, made=made: at_thresholds(at, made),
+            residual_foam.decay_time(sea), grid, kept, placed, dolly=dolly)
+            for sea, made, weight in seas)
     if len(boxes):
         x, y, h = surface
         ring = contact_foam(x, y, h + level, boxes, contact_foam_width(source.bounds(time)[0]))

@@ -99,6 +99,9 @@ class FrameInputs:
     volume_reach: float  # m: as far as EEVEE draws volumes
     ahead: bool  # the coming seconds' foam may be calibrated ahead (the viewport's frames)
     winds_ahead: tuple = ()  # a keyed wind's speeds at the coming FOAM_PERIODs' starts
+    # the camera moves along the sea alone, its orientation, height and lens held (a dolly,
+    # a flyover): the residual foam's past on canonical cameras' grids (past_grid.py)
+    dolly: bool = False
 
 
 @dataclass(eq=False)
@@ -150,7 +153,7 @@ def plan(inputs):
     visible = result.visible
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
     whitecaps, residual = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes,
-                                           level) if visible else (None, None))
+                                           level, inputs.dolly) if visible else (None, None))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
     puffs = spray.spray(hf, t, cam.position[:2], spray.view_wedge(cam), level, s.wind_speed,

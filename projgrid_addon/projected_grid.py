@@ -3,6 +3,7 @@
 `build_grid` runs the steps in order:
   1. camera                                   -> Camera (camera.py)
   2. V_visible = V_cam ∩ V_displaceable        -> visible_volume_points; none: not visible, stop
+     (steps 2 to 6: grid_points.py)
   3. aim the projector                        -> projector.aim_projector (§2.4.1, §2.5)
   4. range matrix from V_visible              -> Projector.with_range (§2.4.2)
   5. grid over [0, 1]^2, columns and rows     -> Projector.spacing, grid_uv / grid_topology
@@ -16,11 +17,10 @@ from functools import cached_property
 
 import numpy as np
 
-from .band_limit import grid_steps, lod_from_w
 from .camera import Camera
-from .displaceable_volume import Extent, fitted_extents, visible_volume_points
+from .displaceable_volume import Extent, fitted_extents
+from .grid_points import grid_points
 from .projector import Projector, aim_projector
-from .scratch import CHUNK, scratch
 from .validation import finite, integer, non_negative
 
 MAX_VERTICES = 2**25
@@ -52,6 +52,9 @@ class GridResult:
     # (cap, (2, ny, nx) float32): the source's crest sum at band limit `cap` (build_grid's
     # `crest`: the sideways displacement of the waves it keeps), or None
     crest: tuple | None = None
+    # (level, projector elevation, aim, wave scale or None): what else the grid's points are a
+    # function of (grid_points.grid_points), for another camera's grid (past_grid.py)
+    settings: tuple | None = None
 
     @property
     def fitted(self):
@@ -220,14 +223,6 @@ def grid_normals(x, y, z):
     return n.reshape(-1, 3).astype(np.float32)
 
 
-def widened(points, side):
-    """Points on S_base and the corners of the square `side` metres around each: where grid
-    points may lie whose choppy displacement (at most `side`) brings them into view."""
-    offsets = np.array([(-side, -side, 0.0), (side, -side, 0.0), (-side, side, 0.0),
-                        (side, side, 0.0)])
-    return np.concatenate([points, (points[:, None, :] + offsets).reshape(-1, 3)])
-
-
 def build_grid(camera, height_field, level=0.0, time=0.0, resolution=(65, 129),
                projector_elevation=0.0, band_limit=True, origin=None, aim=aim_projector,
                extent=None, crest=None):
@@ -348,40 +343,11 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
           extent):
     """The grid for the displaceable volume of `extent` (§2.4 steps 2 to 7)."""
     nx, ny = resolution
-    points = visible_volume_points(camera, level, extent.upper, extent.lower)
-    if len(points) == 0:
+    made = grid_points(camera, level, extent, resolution, elevation, aim, origin,
+                       hf.wave_scale if band_limit else None)
+    if made is None:
         return _empty((nx, ny), hf.shader_octaves(None)[0], origin)
-    points[:, 2] = level  # onto S_base
-    if extent.side > 0.0:
-        points = widened(points, extent.side)
-    projector = aim(camera, level, extent.upper, elevation, points).with_range(points, origin)
-    c = projector.corner_points(level)
-
-    # Bilinear interpolation of the homogeneous corners (exact: they are affine in u, v), in the
-    # weighted form: corners can differ in scale by 1e6 (w ~ 1 / distance), and differences of
-    # corners would cancel catastrophically near the horizon.
-    u, du, v, dv = projector.spacing(camera, level, extent, c, nx, ny)
-    iu = 1.0 - u
-    left = (1.0 - v) * c[0] + v * c[2]  # (ny, 4): hom at u = 0
-    right = (1.0 - v) * c[1] + v * c[3]  # (ny, 4): hom at u = 1
-    xy = np.empty((2, ny, nx))
-    lod = np.empty((ny, nx), np.float32) if band_limit else None
-    steps = grid_steps(c, left, right, u, hf.wave_scale, du, dv) if band_limit else None
-    for start in range(0, ny, max(1, CHUNK // nx)):
-        rows = slice(start, min(ny, start + max(1, CHUNK // nx)))
-        n = rows.stop - start
-        hw = scratch("hw", (n, nx), np.float64)
-        term = scratch("term", (n, nx), np.float64)
-        np.multiply(iu, left[rows, 3:4], out=hw)
-        np.multiply(u, right[rows, 3:4], out=term)
-        hw += term
-        for k in (0, 1):
-            np.multiply(iu, left[rows, k:k + 1], out=xy[k, rows])
-            np.multiply(u, right[rows, k:k + 1], out=term)
-            xy[k, rows] += term
-            xy[k, rows] /= hw
-        if band_limit:
-            lod_from_w(steps, rows, hw, lod[rows])
+    projector, u, v, xy, lod = made.projector, made.u, made.v, made.xy, made.lod
     h, d, *crests = hf.displacement(xy, time, lod, on_grid=True, crest=crest)
     base = None
     if d is not None:
@@ -397,4 +363,5 @@ def _grid(camera, hf, level, time, resolution, elevation, band_limit, origin, ai
     lod = np.full(nx * ny, np.inf, np.float32) if lod is None else lod.reshape(-1)
     return GridResult(positions, (x, y, h), lod, True, shader, projector,
                       (nx, ny), origin, camera, base, extent, (u, v[:, 0]),
-                      (crest, crests[0]) if crests and crests[0] is not None else None)
+                      (crest, crests[0]) if crests and crests[0] is not None else None,
+                      (level, elevation, aim, hf.wave_scale if band_limit else None))

@@ -110,6 +110,9 @@ def cue_at(source, xy, time, lod, top=None):
     return cues if isinstance(time, tuple) else cues[0]
 
 
+_NONE = object()  # a key not kept (a kept value may be None)
+
+
 class Kept:
     """Values of pure functions of a source and a key, kept per source (the `kept` newest
     made): a still camera's past cues (PAST), the spray's launches (spray.LAUNCHES, GATHERED).
@@ -124,8 +127,8 @@ class Kept:
         """The values of `keys`, those not kept made by `make(missing keys)`."""
         with self._lock:
             kept = self._kept.setdefault(source, OrderedDict())
-            hits = {key: kept.get(key) for key in keys}
-        missing = [key for key, hit in hits.items() if hit is None]
+            hits = {key: kept.get(key, _NONE) for key in keys}
+        missing = [key for key, hit in hits.items() if hit is _NONE]
         if missing:
             hits.update(zip(missing, make(missing), strict=True))
             with self._lock:
@@ -150,26 +153,60 @@ def grid_key(result):
         result.extent.upper, result.extent.side, result.resolution))
 
 
-def on_coarse(make, xy, lod, steps, top=None):
-    """`make(points, lod)`, per-point values at the points given, taken at every other grid
-    point each way `steps` times over (band_limit.every_other_of: 4^-steps of the points,
-    2^steps their spacing, so a band limit `steps` lower, at most `top`) and spread linearly
-    back over all of `xy`'s (2, rows, columns) points: float32, flat."""
-    shapes = [xy.shape[1:]]
+def coarse_points(xy, lod, steps, top=None):
+    """Every other grid point each way `steps` times over (band_limit.every_other_of): (the
+    points (2, ...), their band limit `steps` lower, at most `top` (None without `lod`), the
+    shapes from `xy`'s (rows, columns) down, for `spread`)."""
+    shapes = coarse_shapes(xy.shape[1:], steps)
     points, at = xy, None if lod is None else np.asarray(lod, np.float32).reshape(shapes[0])
-    for _ in range(steps):
-        shapes.append(every_other_shape(shapes[-1]))
-        points = every_other_of(points, np.empty((2, *shapes[-1])))
+    for shape in shapes[1:]:
+        points = every_other_of(points, np.empty((2, *shape)))
         if at is not None:
-            at = every_other_of(at, np.empty(shapes[-1], np.float32))
+            at = every_other_of(at, np.empty(shape, np.float32))
     if at is not None:
         at = at - np.float32(steps)
         if top is not None:
             at = np.minimum(at, np.float32(top))
-    out = np.asarray(make(points, at), np.float32).reshape(shapes[-1])
+    return points, at, shapes
+
+
+def coarse_shapes(shape, steps):
+    """The shapes from a grid's (rows, columns) to its points every other `steps` times over."""
+    shapes = [tuple(shape)]
+    for _ in range(steps):
+        shapes.append(every_other_shape(shapes[-1]))
+    return shapes
+
+
+def spread(values, shapes):
+    """Values at `coarse_points` spread linearly back over all the grid's points: float32, flat."""
+    out = np.asarray(values, np.float32).reshape(shapes[-1])
     for shape in reversed(shapes[:-1]):
         out = fill_every_other(out, np.zeros(shape, np.float32))
     return out.ravel()
+
+
+def on_coarse(make, xy, lod, steps, top=None):
+    """`make(points, lod)`, per-point values at the points given, taken at `coarse_points`
+    (4^-steps of the points, 2^steps their spacing, so a band limit `steps` lower, at most
+    `top`) and spread linearly back over all of `xy`'s (2, rows, columns) points: float32,
+    flat."""
+    points, at, shapes = coarse_points(xy, lod, steps, top)
+    return spread(make(points, at), shapes)
+
+
+def past_foam(source, points, at, time, active, tau, key, placed=1.0, top=None):
+    """Stage-B foam R at `points` (2, rows, columns; `at` their band limit) at `time`,
+    unclipped (float32 (rows, columns)): `residual`'s sum over the past samples, each
+    sample's cue kept under (`key`, its time) (PAST)."""
+    foam_of = active(at)
+    out = np.zeros(points.shape[1:], np.float32)
+    past = samples(time, tau)
+    cues = PAST.get(source, [(key, when) for when, _ in past], lambda missing: cue_at(
+        source, points, tuple(w for _, w in missing), at, top))
+    for cue, (_, weight) in zip(cues, past, strict=True):
+        out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
+    return out
 
 
 def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None):
@@ -190,13 +227,6 @@ def residual(source, xy, lod, time, active, tau, grid=None, placed=1.0, top=None
     def make(points, at):
         key = grid if grid is not None else hashlib.sha1(
             points.tobytes() + np.asarray(at, np.float32).tobytes()).digest()
-        foam_of = active(at)
-        out = np.zeros(points.shape[1:], np.float32)
-        past = samples(time, tau)
-        cues = PAST.get(source, [(key, when) for when, _ in past], lambda missing: cue_at(
-            source, points, tuple(w for _, w in missing), at, top))
-        for cue, (_, weight) in zip(cues, past, strict=True):
-            out += foam_of(cue).reshape(out.shape) * np.float32(weight * placed)
-        return out
+        return past_foam(source, points, at, time, active, tau, key, placed, top)
     full = on_coarse(make, xy, lod, COARSE)
     return np.minimum(full, 1.0, out=full)

@@ -86,8 +86,11 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     s = scene.read_settings(values)
     try:
         resolution = scene.resolution(s, render)
-        camera = view or (None if render else RUNTIME.live_view)
-        camera = camera or shot.camera_for(the_scene, depsgraph, frame_change=frame_change)
+        camera, dolly = view or (None if render else RUNTIME.live_view), False
+        if camera is None:
+            obj = shot.scene_camera(the_scene, frame_change)
+            camera = shot.camera_for(the_scene, depsgraph, obj, frame_change=frame_change)
+            dolly = shot.dolly(obj)
         world = app.world(depsgraph)
         to_local = np.eye(3) if surface is not ocean else shot.ocean_axes(world)
         cam = Camera(*camera)
@@ -108,7 +111,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
-           sky_overcast, facts.key())
+           sky_overcast, facts.key(), dolly)
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
@@ -124,7 +127,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
         ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(
-            the_scene)) if ahead else ())
+            the_scene)) if ahead else (), dolly=dolly)
     return Gathered(**base, inputs=inputs, key=key)
 
 

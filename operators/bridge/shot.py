@@ -4,6 +4,7 @@ scene time (time stretching included), and the ocean's transform. Nothing here w
 import numpy as np
 
 from ...projgrid_addon.camera import blender_projection, rigid_view
+from .scene import bag_curves
 
 
 def render_size(scene):
@@ -54,6 +55,66 @@ def camera_for(scene, depsgraph, camera=None, frame_change=True):
     except ValueError as e:
         raise ValueError(f"camera {cam.name!r}: {e}") from None
     return view, proj
+
+
+# m: how far across its heading a dollying camera's keyed path may stray (the canonical cameras
+# round its sideways place to a 250th of their step, centimetres: past_grid.SIDEWAYS)
+STRAY = 0.005
+
+
+def dolly(cam):
+    """Whether the camera object `cam` moves along its heading alone (past_grid.py): its
+    location's x or y keyed along a line it looks along (the path read at its keys and
+    between), everything else held: F-curves on anything else flat (Location and Rotation
+    keyed, the height and rotation held), on its camera data too; no parent, constraints,
+    drivers, F-curve modifiers or NLA strips (a conservative reading: any of those may turn,
+    lift, zoom or slide it)."""
+    data = getattr(cam, "data", None)
+    if cam.parent is not None or len(cam.constraints) or _driven(cam) or (data is not None and (
+            _driven(data) or not all(_flat(c) for c in bag_curves(data)))):
+        return False
+    path = {}
+    for curve in bag_curves(cam):
+        if _flat(curve):
+            continue
+        if curve.data_path != "location" or curve.array_index > 1 or len(curve.modifiers):
+            return False
+        path[curve.array_index] = curve
+    if not path:
+        return False
+    keys = np.unique(np.concatenate([_keys(c) for c in path.values()]))
+    frames = np.concatenate([keys, *(keys[:-1] + f * np.diff(keys) for f in (0.25, 0.5, 0.75))])
+    xy = np.array([[path[i].evaluate(f) for f in frames] if i in path
+                   else np.full(len(frames), cam.location[i]) for i in (0, 1)])
+    m = np.array(cam.matrix_world, np.float64)
+    for axis in (-m[:2, 2], m[:2, 1]):  # the view's heading, else its screen's top (past_grid)
+        norm = float(np.hypot(*axis))
+        if norm > 1e-3:
+            return bool(np.ptp(np.array([axis[1], -axis[0]]) @ xy / norm) <= STRAY)
+    return False
+
+
+def _keys(curve):
+    """The frames of an F-curve's keys."""
+    co = np.empty(2 * len(curve.keyframe_points))
+    curve.keyframe_points.foreach_get("co", co)
+    return co[0::2]
+
+
+def _flat(curve):
+    """Whether an F-curve holds one value: no modifiers, its keys and their handles level."""
+    points = curve.keyframe_points
+    values = np.empty((3, 2 * len(points)))
+    for row, name in zip(values, ("co", "handle_left", "handle_right"), strict=True):
+        points.foreach_get(name, row)
+    return not len(curve.modifiers) and (not len(points) or np.ptp(values[:, 1::2]) == 0.0)
+
+
+def _driven(id_block):
+    """Whether `id_block` has drivers or NLA strips."""
+    anim = getattr(id_block, "animation_data", None)
+    return anim is not None and bool(len(anim.drivers) or any(
+        len(track.strips) for track in anim.nla_tracks))
 
 
 def scene_time(scene):

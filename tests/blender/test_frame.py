@@ -200,3 +200,51 @@ def test_a_collection_relinked_beside_many_moving_objects_is_followed(bridge):
     scene.frame_set(2)
     assert len(bridge.scene.appearances(scene)) == 2
     assert sum(1 for o in scene.objects if o.get(bridge.scene.STAND_IN)) == 2
+
+
+def test_a_camera_keyed_along_its_heading_alone_dollies(bridge):
+    """The frame's inputs say the camera dollies (moves along its heading alone, its
+    orientation, height and lens the same at every time: the residual foam's past on
+    canonical cameras, past_grid.py) while its keys move it so (Location and Rotation keyed,
+    its height and rotation held); a still camera does not, nor do keys that slide it sideways,
+    lift, turn or zoom it, a constraint, a driver, or a parent."""
+    scene = bpy.context.scene
+    cam = add_camera(scene)  # looking along +y
+    obj = add_ocean()
+    (app,) = bridge.scene.appearances(scene)
+
+    def dollies():
+        scene.frame_set(24)
+        bridge.state.RUNTIME.state(obj).key = None
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        return bridge.gather.frame(app, scene, depsgraph, False).inputs.dolly
+
+    def keys(block, path, values, frames=(1, 48)):
+        for frame, value in zip(frames, values, strict=True):
+            setattr(block, path, value)
+            block.keyframe_insert(path, frame=frame)
+
+    def dolly():
+        keys(cam, "location", [(0.0, 0.0, z), (0.0, 30.0, z), (0.0, 50.0, z)], (1, 20, 48))
+        keys(cam, "rotation_euler", [turn, turn])
+    z, turn = cam.location.z, tuple(cam.rotation_euler)
+    assert not dollies()
+    keys(cam, "location", [(0.0, 0.0, z), (0.0, 0.0, z)])
+    assert not dollies()
+    dolly()
+    assert dollies()
+    for moved in (lambda: keys(cam, "location", [(0.0, 0.0, z), (0.0, 50.0, z + 3.0)]),
+                  lambda: keys(cam, "location", [(0.0, 0.0, z), (1.0, 50.0, z)], (1, 30)),
+                  lambda: keys(cam, "rotation_euler", [turn, (*turn[:2], turn[2] + 0.3)]),
+                  lambda: keys(cam.data, "lens", [50.0, 35.0]),
+                  lambda: cam.driver_add("scale", 0),
+                  lambda: cam.constraints.new("TRACK_TO")):
+        moved()
+        assert not dollies()
+        cam.animation_data_clear()
+        cam.data.animation_data_clear()
+        cam.constraints.clear()
+        dolly()
+        assert dollies()
+    cam.parent = bpy.data.objects.new("Rig", None)
+    assert not dollies()

@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects, frame_plan, shading
+from projgrid_addon import HeightField, effects, frame_plan, past_grid, shading
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR
 from projgrid_addon.spectral_field import SpectralField
@@ -121,3 +121,14 @@ def test_time_is_an_argument_of_every_read(source):
     again = frame_plan.plan(inputs(height_source=source, frame=48.0))
     assert again.bound == first.bound
     assert np.array_equal(again.result.positions, first.result.positions)
+
+
+def test_a_dolly_s_plan_reads_the_residual_s_past_on_canonical_grids(monkeypatch):
+    """FrameInputs.dolly reaches the residual foam: a dollying camera's plan takes its past on
+    canonical cameras' grids (past_grid.py), any other camera's on its own grid."""
+    asked, canonical = [], past_grid._canonical
+    monkeypatch.setattr(past_grid, "_canonical", lambda *a: asked.append(1) or canonical(*a))
+    for dolly in (False, True):
+        asked.clear()
+        plan = frame_plan.plan(replace(inputs(foam="ON"), dolly=dolly))
+        assert plan.residual.max() > 0.0 and bool(asked) == dolly

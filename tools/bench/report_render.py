@@ -347,7 +347,6 @@ def _memory(report):
 def _storm(report):
     """§13: what the storm's work costs, against the sea before it (tools/bench/storm_bench.py)."""
     storm = report.results["storm"]
-    rows = storm["rows"]
     for r in storm["ratios"]:
         if r["what"] == "this tree / baseline" and r["variant"].startswith("frame 257"):
             camera = r["variant"].split("camera ")[-1]
@@ -357,9 +356,10 @@ def _storm(report):
                 f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
                 "screen (waves to the horizon), so more vertices are near and detailed, each "
                 "with more bands to sample; the spray adds its puffs; the residual foam's "
-                "past samples are " + (
-                    "new each frame (a moving camera's grid is new)." if camera == "moving" else
-                    "kept while the camera stays.")))
+                "past samples are kept " + (
+                    "on canonical cameras' grids (past_grid.py; the camera dollies 2 m a frame "
+                    "along its heading), made anew at each 8 m step of their lattice."
+                    if camera == "moving" else "on its grid: a frame makes the newest.")))
         if r["what"] == "with stage B / without":
             report.targets.append(Target(
                 "A gale rendered with its residual foam (stage B) ≤ 1.1× without it",
@@ -372,16 +372,16 @@ def _storm(report):
         "last before the storm's work: whitecaps alone, no residual foam or streaks, the grid "
         "spread evenly over the projector's span), each in a Blender process of its own, the "
         "two alternated. Per frame: frame_set on a 257² grid, each frame a time of its own, "
-        "the camera still and moving 2 m a frame, the foam's calibrations made in the frame "
+        "the camera still and dollying 2 m a frame, the foam's calibrations made in the frame "
         "(no worker beside it). Rendered: a frame as a farm renders it, alone (a time no "
         "earlier frame made: its sea, foam calibrations and residual past made in it), EEVEE "
         "960×540, 16 samples, after a render compiled the shaders; this tree's alternately "
         "with and without its residual foam (stage B: the per-vertex residual not made, the "
         "water group's residual and streak noises left out), and without its spray (spray.py; "
-        "per frame too). "
-        "`tools/bench/storm_bench.py`.", "",
-        _table(rows, [("variant", "variant", ""), ("tree", "tree", ""), ("ms", "ms", ".1f"),
-                      ("p10 ms", "p10", ".1f"), ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",
+        "per frame too). `tools/bench/storm_bench.py`.", "",
+        _table(storm["rows"], [("variant", "variant", ""), ("tree", "tree", ""),
+                               ("ms", "ms", ".1f"), ("p10 ms", "p10", ".1f"),
+                               ("CPU ms", "cpu", ".1f"), ("n", "n", "d")]), "",
         _table(storm["ratios"], [("variant", "variant", ""), ("ratio", "what", ""),
                                  ("median", "ratio", ".2f"), ("p10", "ratio_p10", ".2f")]), ""]
 
