@@ -60,15 +60,17 @@ def camera_for(scene, depsgraph, camera=None, frame_change=True):
 # m: how far across its heading a dollying camera's keyed path may stray (the canonical cameras
 # round its sideways place to a 250th of their step, centimetres: past_grid.SIDEWAYS)
 STRAY = 0.005
+PATH_FRAMES = 256  # at most this many frames of the keyed path read (a baked path: its keys)
 
 
 def dolly(cam):
     """Whether the camera object `cam` moves along its heading alone (past_grid.py): its
-    location's x or y keyed along a line it looks along (the path read at its keys and
-    between), everything else held: F-curves on anything else flat (Location and Rotation
-    keyed, the height and rotation held), on its camera data too; no parent, constraints,
-    drivers, F-curve modifiers or NLA strips (a conservative reading: any of those may turn,
-    lift, zoom or slide it)."""
+    location's x or y keyed along a line it looks along (the path read at its keys, between
+    them and a frame beyond either end, where it may extrapolate), everything else held:
+    F-curves on anything else flat (Location and Rotation keyed, the height and rotation
+    held), on its camera data too (lens, focus and all); no parent, constraints, drivers,
+    F-curve modifiers or NLA strips (a conservative reading: any of those may turn, lift,
+    zoom or slide it)."""
     data = getattr(cam, "data", None)
     if cam.parent is not None or len(cam.constraints) or _driven(cam) or (data is not None and (
             _driven(data) or not all(_flat(c) for c in bag_curves(data)))):
@@ -83,12 +85,15 @@ def dolly(cam):
     if not path:
         return False
     keys = np.unique(np.concatenate([_keys(c) for c in path.values()]))
-    frames = np.concatenate([keys, *(keys[:-1] + f * np.diff(keys) for f in (0.25, 0.5, 0.75))])
+    frames = np.concatenate([keys, (keys[0] - 1.0, keys[-1] + 1.0), *(
+        keys[:-1] + f * np.diff(keys) for f in (0.25, 0.5, 0.75))])
+    frames = frames[np.linspace(0, len(frames) - 1, min(len(frames), PATH_FRAMES)).astype(int)]
     xy = np.array([[path[i].evaluate(f) for f in frames] if i in path
                    else np.full(len(frames), cam.location[i]) for i in (0, 1)])
-    m = np.array(cam.matrix_world, np.float64)
-    for axis in (-m[:2, 2], m[:2, 1]):  # the view's heading, else its screen's top (past_grid)
-        norm = float(np.hypot(*axis))
+    m = np.array(cam.matrix_world, np.float64)[:3, :3]
+    for axis in (-m[:, 2], m[:, 1]):  # the view's heading, else its screen's top (past_grid)
+        axis = axis / max(float(np.linalg.norm(axis)), 1e-300)
+        norm = float(np.hypot(axis[0], axis[1]))
         if norm > 1e-3:
             return bool(np.ptp(np.array([axis[1], -axis[0]]) @ xy / norm) <= STRAY)
     return False

@@ -227,6 +227,14 @@ def test_a_camera_keyed_along_its_heading_alone_dollies(bridge):
     def dolly():
         keys(cam, "location", [(0.0, 0.0, z), (0.0, 30.0, z), (0.0, 50.0, z)], (1, 20, 48))
         keys(cam, "rotation_euler", [turn, turn])
+    def slides():  # x level through the keys, then extrapolated along a sloping handle
+        (curve,) = [c for c in bridge.scene.bag_curves(cam)
+                    if c.data_path == "location" and c.array_index == 0]
+        key = curve.keyframe_points[-1]
+        key.handle_left_type = key.handle_right_type = "FREE"
+        key.handle_left, key.handle_right = (47.0, 0.0), (49.0, 0.5)
+        curve.extrapolation = "LINEAR"
+        curve.update()
     z, turn = cam.location.z, tuple(cam.rotation_euler)
     assert not dollies()
     keys(cam, "location", [(0.0, 0.0, z), (0.0, 0.0, z)])
@@ -236,7 +244,7 @@ def test_a_camera_keyed_along_its_heading_alone_dollies(bridge):
     for moved in (lambda: keys(cam, "location", [(0.0, 0.0, z), (0.0, 50.0, z + 3.0)]),
                   lambda: keys(cam, "location", [(0.0, 0.0, z), (1.0, 50.0, z)], (1, 30)),
                   lambda: keys(cam, "rotation_euler", [turn, (*turn[:2], turn[2] + 0.3)]),
-                  lambda: keys(cam.data, "lens", [50.0, 35.0]),
+                  lambda: keys(cam.data, "lens", [50.0, 35.0]), slides,
                   lambda: cam.driver_add("scale", 0),
                   lambda: cam.constraints.new("TRACK_TO")):
         moved()
