@@ -69,11 +69,12 @@ def fitted_extents(source, full):
     rarely comes near that (a spectral sea's sum is about 11 standard deviations), and a grid
     built for them spends its vertices off the screen. A fitted volume is a guess: the grid built
     from it is kept only if its border is verified to lie outside the screen (`border_outside`).
-    The guesses depend on the settings alone (`source.spread`), never on the time: a still
-    camera's grid stays still while the waves run through it (a volume sampled from the sea in
-    view changed from frame to frame, and the grid swam over the sea).
+    The guesses depend on the settings alone (`source.spread`, or its `volume_spread` where it
+    has one: a keyed wind's strongest), never on the time: a still camera's grid stays still
+    while the waves run through it (a volume sampled from the sea in view changed from frame
+    to frame, and the grid swam over the sea).
     """
-    height, side = source.spread
+    height, side = getattr(source, "volume_spread", source.spread)
     for sigmas in FIT_SIGMAS:
         extent = Extent(lower=min(sigmas * height, full.lower),
                         upper=min(sigmas * height, full.upper),

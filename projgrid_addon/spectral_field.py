@@ -28,7 +28,8 @@ alone, so frame N is the same computed alone or after 1..N-1, on any machine.
 
 import copy
 from collections import OrderedDict
-from functools import cached_property
+from dataclasses import replace
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -119,6 +120,17 @@ class SpectralField:
         power = [float(np.sum(c.power())) for c in self.cascades]
         moved = sum(p for p, c in zip(power, self.cascades, strict=True) if 1 in c.gives)
         return float(np.sqrt(sum(power))), float(self.choppiness * np.sqrt(moved))
+
+    @cached_property
+    def volume_spread(self):
+        """The `spread` the displaceable volume is fitted to (fitted_extents): the sea's own, or
+        under a keyed wind (`wind_span`) the sea's at the span's strongest wind, the same at
+        every frame, so a still camera's grid stays still while the wind changes (and the
+        residual foam's past cues made on it serve the next frames)."""
+        if self.wind_span is None or self.state.wind_speed >= self.wind_span[1]:
+            return self.spread
+        return _spread_at(replace(self.state, wind_speed=self.wind_span[1]), self.choppiness,
+                          self.seed, self.texels, self.wind_span)
 
     @property
     def levels(self):
@@ -356,3 +368,8 @@ class SpectralField:
         ddx_y, ddy_y = (dx[2] - dx[3]) / span, (dy[2] - dy[3]) / span
         return (1.0 + ddx_x) * (1.0 + ddy_y) - ddx_y * ddy_x
 
+
+@lru_cache(maxsize=4)
+def _spread_at(state, choppiness, seed, texels, wind_span):
+    """`SpectralField.spread` of the sea of these settings."""
+    return SpectralField(state, choppiness, seed, texels, wind_span).spread

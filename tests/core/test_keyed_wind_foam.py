@@ -5,7 +5,7 @@ the thresholds change continuously with the wind and the share foamed stays Mona
 import numpy as np
 import pytest
 
-from projgrid_addon import cascade, foam, spectral_field
+from projgrid_addon import cascade, foam, residual_foam, spectral_field
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.cascade import WIND_LATTICE, wind_lattice
 from projgrid_addon.projected_grid import build_grid
@@ -124,3 +124,23 @@ def test_a_keyed_wind_s_residual_foam_is_shared_between_frames_and_continuous(mo
     assert frames[1] == frames[5] == 0 and frames[0] > 0, frames  # the tiles kept, not made
     steps = [np.abs(b - a).max() for a, b in zip(residuals[:-1], residuals[1:], strict=True)]
     assert steps[2] < 0.2 * min(steps[0], steps[4]) and max(steps) > 0.0, steps
+
+
+def test_a_keyed_wind_s_still_grid_keeps_its_past_cues(monkeypatch):
+    """Under a keyed wind a still camera's grid is fitted to the span's strongest sea
+    (SpectralField.volume_spread), the same whatever each frame's wind, so the residual foam's
+    past cues made at one frame serve the next (a grid fitted to each frame's own sea was new
+    every frame, and made them all again)."""
+    cues, real = [], residual_foam.cue_at
+    monkeypatch.setattr(residual_foam, "cue_at", lambda *a, **k: cues.append(1) or real(*a, **k))
+    eye = np.array([0.0, 0.0, 8.0])
+    cam = (look_at(eye, eye + (0.0, 1.0, -0.2)), perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
+    keys, made = set(), []
+    for u in (8.50, 8.51, 8.52):
+        sea = SpectralField(SeaState(wind_speed=u), choppiness=1.0, seed=4, wind_span=(8.0, 10.0))
+        grid = build_grid(cam, sea, time=2.0, resolution=(33, 65), crest=foam.whitecap_level(sea))
+        keys.add(residual_foam.grid_key(grid))
+        cues.clear()
+        assert foam.foam_field(sea, grid, 2.0, u, True, [], 0.0)[1].max() > 0.0
+        made.append(len(cues))
+    assert len(keys) == 1 and made[0] > 0 and made[1:] == [0, 0], made
