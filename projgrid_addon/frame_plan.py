@@ -152,10 +152,8 @@ def plan(inputs):
                         crest=foam.whitecap_level(hf) if on["foam"] else None)
     visible = result.visible
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
-    # under a keyed wind the grid's volume follows each frame's sea: no canonical grid repeats
-    dolly = inputs.dolly and s.wind_span is None
     whitecaps, residual = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes,
-                                           level, dolly) if visible else (None, None))
+                                           level, inputs.dolly) if visible else (None, None))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
     puffs = spray.spray(hf, t, cam.position[:2], spray.view_wedge(cam), level, s.wind_speed,

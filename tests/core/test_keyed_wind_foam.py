@@ -133,6 +133,7 @@ def test_a_keyed_wind_s_still_grid_keeps_its_past_cues(monkeypatch):
     every frame, and made them all again)."""
     cues, real = [], residual_foam.cue_at
     monkeypatch.setattr(residual_foam, "cue_at", lambda *a, **k: cues.append(1) or real(*a, **k))
+    monkeypatch.setattr(residual_foam, "PAST", residual_foam.Kept(48))  # none kept before
     eye = np.array([0.0, 0.0, 8.0])
     cam = (look_at(eye, eye + (0.0, 1.0, -0.2)), perspective(np.radians(40.0), 16 / 9, 0.1, 1e4))
     keys, made = set(), []
