@@ -8,8 +8,6 @@ frame alone (a farm splitting frames renders the same foam)."""
 
 import threading
 import weakref
-from dataclasses import replace
-from functools import lru_cache
 
 import numpy as np
 
@@ -259,14 +257,7 @@ def calibrated_at(source, wind_speed):
     span = getattr(source, "wind_span", None)
     if span is None or wind_speed <= 0.0:
         return ((source, wind_speed, 1.0),)
-    return tuple((_sea_at(type(source), replace(source.state, wind_speed=wind),
-                          source.choppiness, source.seed, source.texels, span), wind, weight)
-                 for wind, weight in wind_lattice(wind_speed))
-
-
-@lru_cache(maxsize=8)
-def _sea_at(kind, state, choppiness, seed, texels, wind_span):
-    return kind(state, choppiness, seed, texels, wind_span)
+    return tuple((source.at_wind(wind), wind, weight) for wind, weight in wind_lattice(wind_speed))
 
 
 def foam_coverage(wind_speed):

@@ -129,8 +129,14 @@ class SpectralField:
         residual foam's past cues made on it serve the next frames)."""
         if self.wind_span is None or self.state.wind_speed >= self.wind_span[1]:
             return self.spread
-        return _spread_at(replace(self.state, wind_speed=self.wind_span[1]), self.choppiness,
-                          self.seed, self.texels, self.wind_span)
+        return self.at_wind(self.wind_span[1]).spread
+
+    def at_wind(self, wind_speed):
+        """This sea under another wind, its tiles laid out for the same `wind_span`: kept, as a
+        keyed wind's lattice seas (foam.calibrated_at) and its span's strongest
+        (`volume_spread`) serve many frames."""
+        return _at_wind(replace(self.state, wind_speed=wind_speed), self.choppiness, self.seed,
+                        self.texels, self.wind_span)
 
     @property
     def levels(self):
@@ -369,7 +375,6 @@ class SpectralField:
         return (1.0 + ddx_x) * (1.0 + ddy_y) - ddx_y * ddy_x
 
 
-@lru_cache(maxsize=4)
-def _spread_at(state, choppiness, seed, texels, wind_span):
-    """`SpectralField.spread` of the sea of these settings."""
-    return SpectralField(state, choppiness, seed, texels, wind_span).spread
+@lru_cache(maxsize=8)
+def _at_wind(state, choppiness, seed, texels, wind_span):
+    return SpectralField(state, choppiness, seed, texels, wind_span)
