@@ -93,17 +93,19 @@ class Projector:
         return cls(view_matrix(position, right, up, forward), proj, position, forward,
                    orthographic)
 
-    def with_range(self, points, origin=(0.0, 0.0, 0.0)):
+    def with_range(self, points, origin=(0.0, 0.0, 0.0), slack=0.0):
         """A copy whose span covers `points` on S_base (§2.4.2).
 
         The span is widened by RANGE_MARGIN and by four float32 roundings of the points' coordinates
-        relative to `origin`, so rays on the screen edge still meet the float32 mesh.
+        relative to `origin` (each coordinate's distance from it plus `slack`, for points whose
+        mesh is placed from another origin up to `slack` away), so rays on the screen edge still
+        meet the float32 mesh.
         """
         points = np.asarray(points, dtype=np.float64)
         m = self.proj @ self.view
         c = points @ m[:, :3].T + m[:, 3]
         ndc = c[:, :2] / c[:, 3:4]
-        rounding = 4.0 * np.finfo(np.float32).eps * np.abs(points - origin).max(axis=1)
+        rounding = 4.0 * np.finfo(np.float32).eps * (np.abs(points - origin).max(axis=1) + slack)
         # How far NDC moves per metre: d(X/W) = (dX - x dW) / W in perspective, 1 in orthographic.
         if self.orthographic:
             sensitivity = 1.0

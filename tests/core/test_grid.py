@@ -101,7 +101,8 @@ def _gale_from(height, pitch):
 
 
 @pytest.mark.parametrize("height, pitch", [(4.0, 0.0), (5.0, -2.0)])
-def test_a_low_camera_in_a_gale_spends_its_vertices_on_the_screen(height, pitch, monkeypatch):
+def test_a_low_camera_in_a_gale_spends_its_vertices_on_the_screen(height, pitch, monkeypatch,
+                                                                  grids_anew):
     """A gale (Beaufort 8, its waves nearly as high as the camera) from 4-5 m up: the grid's
     columns and rows follow the camera's screen (Projector.spacing), so over 12 s at least half
     of the viewport grid's vertices are on the screen (median), more than twice an even grid's;
