@@ -31,6 +31,8 @@ drawn as SORTED points of its smallest to largest droplets, which leave the cres
 and draw out into a streamer (spindrift's streaks), the small ahead, the large lagging low
 (in the STREAKED nearest rings: further off, a streamer is no longer than a puff is wide)."""
 
+from functools import lru_cache
+
 import numpy as np
 
 from . import foam, noise, residual_foam, spectrum
@@ -99,9 +101,17 @@ def view_wedge(camera):
 def blocks(centre, wedge, ring=0):
     """The blocks of BLOCK x BLOCK launch sites of `ring` (their lattice indices (bx, by))
     within its reach of `centre` (x, y) and within MARGIN of the view's `wedge` (view_wedge;
-    None: all around): fixed in the sea, so a moving camera keeps the rest."""
+    None: all around): fixed in the sea, so a moving camera keeps the rest. A still camera's
+    are kept (`_blocks`)."""
+    if wedge is not None:
+        wedge = (float(wedge[0][0]), float(wedge[0][1])), float(wedge[1])
+    return _blocks(float(centre[0]), float(centre[1]), wedge, ring)
+
+
+@lru_cache(maxsize=2 * RINGS)
+def _blocks(cx, cy, wedge, ring):
     size = BLOCK * CELL * 2.0**ring
-    centre = np.asarray(centre, np.float64)
+    centre = np.array([cx, cy])
     reach = REACH * 2.0 ** (ring + FADE / 2.0)
     lo = np.floor((centre - reach) / size).astype(np.int64)
     n = int(np.ceil(2.0 * reach / size)) + 1
