@@ -48,7 +48,10 @@ class GridPoints:
                           self.lod)
 
 
-KEPT = 3  # grids kept by what they are made of (a viewport's and a render's, a try of another)
+# Grids kept by what they are made of: a viewport's and a render's, each with the volumes a
+# frame may try (displaceable_volume.FIT_SIGMAS and the true bounds), within KEPT_BYTES of
+# their arrays (a grid larger alone is not kept).
+KEPT, KEPT_BYTES = 8, 64 * 2**20
 SLACK_STEP = 64.0  # m (`_slack`)
 _KEPT = OrderedDict()
 _LOCK = threading.Lock()
@@ -88,29 +91,34 @@ def grid_points(camera, level, extent, resolution, elevation, aim, origin, wave_
             resolution)), aim)
         with _LOCK:
             made = _KEPT.get(key)
+            if made is not None:
+                _KEPT.move_to_end(key)
         if made is not None:
             return made.moved(shift)
     made = _made(type(camera)(view, camera.proj), level, extent, resolution, elevation, aim,
                  here, wave_scale, keep, slack)
-    if made is None or key is None:
-        return made if made is None else made.moved(shift)
-    for a in (made.u, made.v, made.lod):
-        if a is not None:
-            a.setflags(write=False)
-    with _LOCK:
-        _KEPT[key] = made
-        while len(_KEPT) > KEPT:
-            _KEPT.popitem(last=False)
+    if made is None:
+        return None
+    if key is not None and _bytes(made) <= KEPT_BYTES:
+        with _LOCK:
+            _KEPT[key] = made
+            while len(_KEPT) > KEPT or sum(map(_bytes, _KEPT.values())) > KEPT_BYTES:
+                _KEPT.popitem(last=False)
     return made.moved(shift)
+
+
+def _bytes(made):
+    return sum(a.nbytes for a in (made.u, made.v, made.lod) if a is not None)
 
 
 def _slack(reach):
     """The span's float32 margin (Projector.with_range) for a mesh placed from an origin
     `reach` from the camera along the sea: at least that, rounded up to a multiple of
-    SLACK_STEP m, or of a 64th of its octave beyond 4 km, so a moving camera keeps it for a
-    while and the span's steps stay far below a pixel (0.01 px for a step of 64 m; at 16 km,
-    0.05 px: a whole octave would move far vertices 3 px)."""
-    step = max(SLACK_STEP, 2.0 ** (np.floor(np.log2(max(reach, SLACK_STEP))) - 6.0))
+    SLACK_STEP m, or of a 512th of its octave beyond 32 km, so a moving camera keeps it for a
+    while and the span's steps move the grid far less than a pixel: a step's move grows with
+    the step (64 m: 0.002-0.013 px on a 1920 px screen; 2 km, at 1,000 km, about 0.2 px, where
+    the float32 mesh's own rounding moves vertices up to 7 px)."""
+    step = max(SLACK_STEP, 2.0 ** (np.floor(np.log2(max(reach, SLACK_STEP))) - 9.0))
     return float(max(1.0, np.ceil(reach / step)) * step)
 
 
@@ -126,6 +134,8 @@ def _made(camera, level, extent, resolution, elevation, aim, origin, wave_scale,
         points = widened(points, extent.side)
     projector = aim(camera, level, extent.upper, elevation, points).with_range(points, origin,
                                                                            slack)
+    projector = replace(projector, **{k: _read_only(getattr(projector, k))
+                                      for k in ("view", "position", "forward")})
     c = projector.corner_points(level)
     u, du, v, dv = projector.spacing(camera, level, extent, c, nx, ny)
     steps = None
@@ -140,8 +150,18 @@ def _made(camera, level, extent, resolution, elevation, aim, origin, wave_scale,
         if steps is not None:
             along_u, along_v, scale, du, dv = steps
             steps = along_u, along_v[columns], scale, du[columns], dv
-    return GridPoints(projector, c, u, v, None,
-                      None if steps is None else _interpolated(c, u, v, (steps, rows, keep)))
+    lod = None if steps is None else _interpolated(c, u, v, (steps, rows, keep))
+    for a in (u, v, lod):  # made here: shared by every grid moved from this one
+        if a is not None:
+            a.setflags(write=False)
+    return GridPoints(projector, c, u, v, None, lod)
+
+
+def _read_only(a):
+    """A read-only copy of array `a`: shared by every grid moved from a kept one."""
+    a = np.array(a)
+    a.setflags(write=False)
+    return a
 
 
 def _interpolated(c, u, v, band_limit=None):
