@@ -9,13 +9,16 @@ TAG = "projgrid_ocean"  # ID property marking the data this extension made (neve
 
 
 def assign(target, **values):
-    """Set each attribute whose value changes by more than 1e-7 (in any component): every write
-    tags its data-block for a depsgraph update, which runs our handlers again."""
+    """Set each attribute whose value changes by more than 1e-7 or its float32 rounding (in
+    any component): every write tags its data-block for a depsgraph update, which runs our
+    handlers again, and Blender keeps its floats in single precision, so a value that does not
+    change reads back off by up to half its last place (a 2^24th of itself; a change of one
+    place is written)."""
     for name, value in values.items():
         current = getattr(target, name)
         pairs = (zip(current, value, strict=True) if hasattr(current, "__len__")
                  else ((current, value),))
-        if any(abs(a - b) > 1e-7 for a, b in pairs):
+        if any(abs(a - b) > max(1e-7, abs(b) * 2.0**-24) for a, b in pairs):
             setattr(target, name, value)
 
 

@@ -256,3 +256,32 @@ def test_a_camera_keyed_along_its_heading_alone_dollies(bridge):
         assert dollies()
     cam.parent = bpy.data.objects.new("Rig", None)
     assert not dollies()
+
+
+
+def test_a_value_that_did_not_change_is_not_written_again(extension):
+    """shaders.nodes.assign writes only changes: Blender keeps a socket's value in float32, so
+    one that did not change reads back off by up to half its last place (the gale's Pixel Log,
+    -6.8387624, by 1.2e-7: written every frame, each write tagging the material, 1 ms a
+    frame); a change of one float32 step is still written."""
+    class Socket:  # a float property as Blender keeps it: in single precision
+        writes, _value = 0, 0.0
+
+        @property
+        def default_value(self):
+            return self._value
+
+        @default_value.setter
+        def default_value(self, value):
+            Socket.writes += 1
+            self._value = float(np.float32(value))
+
+    socket = Socket()
+    for value in (-6.838762407495186, 32.277787223740745, 1e4 + 0.3):
+        extension.shaders.nodes.assign(socket, default_value=value)
+        writes = Socket.writes
+        extension.shaders.nodes.assign(socket, default_value=value)
+        assert Socket.writes == writes, value
+        step = float(np.spacing(np.float32(value)))
+        extension.shaders.nodes.assign(socket, default_value=socket.default_value + step)
+        assert Socket.writes == writes + 1, value
