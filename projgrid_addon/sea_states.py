@@ -15,7 +15,7 @@ import numpy as np
 from . import spectrum
 from .height_field import HeightField
 from .noise import WAVELENGTH
-from .validation import integer
+from .validation import finite, integer
 
 # force: (name, wind m/s, WMO probable wave height m, swell height m, swell period s)
 BEAUFORT = {
@@ -67,8 +67,15 @@ OVERCAST_FORCES = (5, 8)
 
 def overcast(force):
     """The sky's cloud for Beaufort `force`: 0 up to OVERCAST_FORCES[0], 1 from [1]."""
-    lo, hi = OVERCAST_FORCES
-    return min(max((integer("beaufort", force, 0, 10) - lo) / (hi - lo), 0.0), 1.0)
+    return overcast_for_wind(BEAUFORT[integer("beaufort", force, 0, 10)][1])
+
+
+def overcast_for_wind(wind_speed):
+    """The sky's cloud for a wind of `wind_speed` m/s, continuous in it (a keyed storm's sky
+    closes as its wind rises, without a step at each force): 0 up to OVERCAST_FORCES[0]'s
+    wind, 1 from [1]'s, linear in the wind between; `overcast` at each force's."""
+    lo, hi = (BEAUFORT[force][1] for force in OVERCAST_FORCES)
+    return min(max((finite("wind_speed", wind_speed) - lo) / (hi - lo), 0.0), 1.0)
 
 
 # The shortest first octave the noise takes (m): the panel's Wave Scale minimum.

@@ -1,10 +1,13 @@
 """A storm building over a shot: the wind keyed from Beaufort 3 to 9 over ten seconds (the sea
-state of force 9 otherwise, so its fetch and choppiness), the sky keyed at each shot to the
-weather Sea State sets for the force the wind is at, rendered at six times from 20 m up and put
+state of force 9 otherwise, so its fetch and choppiness), blowing toward the camera from 30
+degrees left of its view (the waves come at it, their faces and the streaks along the wind in
+view, as a storm is watched from a deck facing the sea), the sky keyed at each shot to the cloud
+of the wind then (sea_states.overcast_for_wind), rendered at six times from 20 m up and put
 side by side in docs/storm_strip.png, left to right in time.
 
 `make bench` runs it (step `strip`); alone: python -m tools.storm_strip [out_dir] [--quick]."""
 
+import math
 import os
 import tempfile
 
@@ -12,14 +15,15 @@ FORCES = (3, 9)
 SECONDS = 10.0
 TIMES = (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
 HEIGHT, PITCH = 20.0, -8.0
+WIND = -60.0  # deg counter-clockwise from +X, where the wind blows toward (the camera looks +Y)
 
 
-def _key_weather(scene, frame, force):
-    """Sea State's weather for `force` at `frame`, keyed on our sky's overcast and sun."""
+def _key_weather(scene, frame, wind):
+    """The weather of a wind of `wind` m/s at `frame`, keyed on our sky's overcast and sun."""
     from tools.bench.blender_bench import extension
 
     ext = extension()
-    ext.shaders.sky.weather(scene, ext.projgrid_addon.sea_states.overcast(force))
+    ext.shaders.sky.weather(scene, ext.projgrid_addon.sea_states.overcast_for_wind(wind))
     node = scene.world.node_tree.nodes[ext.shaders.sky.OVERCAST]
     node.inputs["Factor"].keyframe_insert("default_value", frame=frame)
     for obj in scene.objects:
@@ -38,6 +42,7 @@ def shoot(out, quick=False):
     force) and the picture's name."""
     import bpy
     import numpy as np
+    from bpy_extras import anim_utils
 
     from projgrid_addon import sea_states
     from tools.beaufort import render
@@ -49,18 +54,22 @@ def shoot(out, quick=False):
     default_shot(scene, size=size, samples=samples, height=HEIGHT, pitch=PITCH)
     ocean = bpy.data.objects["Ocean"]
     bpy.context.view_layer.objects.active = ocean
+    ocean.projgrid.wind_direction = math.radians(WIND)  # Sea State turns the swell off it
     bpy.ops.projgrid.sea_state(beaufort=FORCES[1])
-    bpy.context.preferences.edit.keyframe_new_interpolation_type = "LINEAR"
     fps = scene.render.fps / scene.render.fps_base
     frames = [1 + round(t * fps) for t in (0.0, SECONDS)]
     winds = [sea_states.BEAUFORT[force][1] for force in FORCES]
     for frame, wind in zip(frames, winds, strict=True):
         ocean.projgrid.wind_speed = wind
         ocean.projgrid.keyframe_insert("wind_speed", frame=frame)
-    for t in TIMES:  # the weather of the force the keyed wind is at, at each shot
+    bag = anim_utils.action_get_channelbag_for_slot(ocean.animation_data.action,
+                                                    ocean.animation_data.action_slot)
+    for key in bag.fcurves.find("projgrid.wind_speed").keyframe_points:
+        key.interpolation = "LINEAR"  # the wind rises at a steady rate through the shots
+    for t in TIMES:  # the weather of the keyed wind, at each shot
         scene.frame_set(1 + round(t * fps))
         wind = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).projgrid.wind_speed
-        _key_weather(scene, scene.frame_current, _force(sea_states, wind))
+        _key_weather(scene, scene.frame_current, wind)
     work = tempfile.mkdtemp(prefix="projgrid-strip-")
     tiles, rows = [], []
     for t in TIMES:
