@@ -134,15 +134,28 @@ def wind_lattice(wind_speed):
                  for step, weight in ((k, 1.0 - (x - k)), (k + 1.0, x - k)) if weight > 0.0)
 
 
-@lru_cache(maxsize=512)  # a lattice wind's tiles: 30-40 arrays of 32-131 KB
+@lru_cache(maxsize=512)  # a lattice wind's tiles: 30-40 of them
+def _cell_waves(size, angle, shortest, longest, state, texels, part):
+    """(amplitude, held) of a tile's wave vectors: the square root of `_cell_energy` (the whole
+    lattice) and which of the half lattice's wave vectors hold a wave (theirs or their
+    mirror's). Kept: a keyed wind's frames share the lattice winds', so a frame only weights
+    them (`Cascade`)."""
+    energy = _cell_energy(size, angle, shortest, longest, state, texels, part)
+    _, _, neg = _lattice(texels)
+    held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, :texels // 2 + 1]
+    amplitude = np.sqrt(energy)
+    for a in (amplitude, held):
+        a.setflags(write=False)
+    return amplitude, held
+
+
 def _cell_energy(size, angle, shortest, longest, state, texels, part):
     """Sixteen times each lattice wave vector's energy (spectrum.wavenumber_spectrum of `part`)
     in a tile `size` m across turned by `angle`, within the band: the sum over its lattice
     cell (4 x 4 samples) of the spectrum inside the band, so neighbouring bands share the k
     plane exactly and the sum over the lattice is the spectrum's integral even where the
     lattice is coarse against the peak and the spreading. The spectrum is evaluated only
-    inside the band's ring (a tenth of the lattice). Kept: a keyed wind's frames share the
-    lattice winds'."""
+    inside the band's ring (a tenth of the lattice)."""
     nx, ny, _ = _lattice(texels)
     lo, hi = size / longest, size / shortest  # band edges in lattice units
     sub = (np.arange(4) + 0.5) / 4.0 - 0.5
@@ -153,8 +166,22 @@ def _cell_energy(size, angle, shortest, longest, state, texels, part):
             inside = (n >= lo) & (n < hi)
             energy[inside] += spectrum.wavenumber_spectrum(
                 *_on_sea(nx[inside] + a, ny[inside] + b, size, angle), state, part)
-    energy.setflags(write=False)
     return energy
+
+
+@lru_cache(maxsize=512)
+def _wave_vectors(size, angle, texels):
+    """(kx, ky, |k|, omega, ux, uy) of the half lattice (nx >= 0) of a tile `size` m across
+    turned by `angle`: the same at every wind (kept)."""
+    nx, ny, _ = _lattice(texels)
+    half = slice(0, texels // 2 + 1)
+    kx, ky = _on_sea(nx[:, half], ny[:, half], size, angle)
+    k = np.hypot(kx, ky)
+    safe = np.where(k > 0.0, k, 1.0)
+    out = (kx, ky, k, np.sqrt(spectrum.GRAVITY * k), kx / safe, ky / safe)
+    for a in out:
+        a.setflags(write=False)
+    return out
 
 
 def _on_sea(ax, ay, size, angle):
@@ -186,33 +213,31 @@ class Cascade:
         self.size, self.shortest = float(size), float(shortest)
         self.texels = texels
         self.turn = (np.cos(angle), np.sin(angle))
-        nx, ny, neg = _lattice(texels)
+        _, _, neg = _lattice(texels)
         dk = 2.0 * np.pi / self.size
         cell = (self.size, float(angle), float(shortest), float(longest))
-        if keyed:  # the amplitudes interpolated: the waves are, their phases shared
-            energy = sum(weight * np.sqrt(_cell_energy(*cell, replace(
-                state, wind_speed=wind), texels, part)) for wind, weight in wind_lattice(
-                    state.wind_speed)) ** 2
-        else:
-            energy = _cell_energy(*cell, state, texels, part)
-        energy = energy * (share / 16.0)
+        # keyed: the amplitudes interpolated between the lattice winds' (the waves are, their
+        # phases shared), each a kept array, so a frame's sea only weights them
+        winds = wind_lattice(state.wind_speed) if keyed else ((state.wind_speed, 1.0),)
+        waves = [(weight, _cell_waves(*cell, replace(state, wind_speed=wind) if keyed
+                                      else state, texels, part)) for wind, weight in winds]
+        amplitude = sum(weight * a for weight, (a, _) in waves) if len(waves) > 1 else (
+            waves[0][1][0])
+        held = np.logical_or.reduce([h for _, (_, h) in waves])
         # The tiles are synthesised in single precision: the vertices are float32 anyway, and
         # the transforms and the patches move half the bytes.
-        self.h0 = (phases * (np.sqrt(0.5 * energy) * dk)).astype(np.complex64)
+        self.h0 = (phases * (amplitude * (np.sqrt(0.5 * share / 16.0) * dk))).astype(
+            np.complex64)
         self.h0_neg_conj = np.conj(self.h0[neg][:, neg])
         # The fields are real, their spectra Hermitian: each is made from the half of the
         # lattice with nx >= 0 by a real inverse transform (no band reaches the Nyquist row).
         half = slice(0, texels // 2 + 1)
         self._h0, self._h0_neg_conj = self.h0[:, half], self.h0_neg_conj[:, half]
-        self.kx, self.ky = _on_sea(nx[:, half], ny[:, half], self.size, float(angle))
-        k = np.hypot(self.kx, self.ky)
-        self.omega = np.sqrt(spectrum.GRAVITY * k)
-        safe = np.where(k > 0.0, k, 1.0)
-        self.ux, self.uy = self.kx / safe, self.ky / safe  # unit wave vectors
-        self.empty = not np.any(energy > 0.0)
+        self.kx, self.ky, k, self.omega, self.ux, self.uy = _wave_vectors(
+            self.size, float(angle), texels)
+        self.empty = not held.any()
         self.gives = frozenset(range(len(FIELDS))) - (set(SIDEWAYS) if smooth else set())
         # The waves it holds, each wave vector of the half lattice standing for k and -k.
-        held = ((energy > 0.0) | (energy[neg][:, neg] > 0.0))[:, half]
         self.shortest_held = 2.0 * np.pi / max(float(k[held].max(initial=0.0)), 1e-12)
         self.longest_held = 2.0 * np.pi / max(float(k[held & (k > 0.0)].min(initial=np.inf)),
                                               1e-12)

@@ -89,9 +89,9 @@ def test_a_keyed_wind_s_waves_are_the_lattice_winds_interpolated():
     for c, c0, c1 in zip(*(s.cascades for s in seas), strict=True):
         assert np.allclose(np.abs(c.h0), a * np.abs(c0.h0) + b * np.abs(c1.h0), rtol=1e-5,
                            atol=1e-12)
-    misses = cascade._cell_energy.cache_info().misses
+    misses = cascade._cell_waves.cache_info().misses
     keyed(u * 1.001)
-    assert cascade._cell_energy.cache_info().misses == misses
+    assert cascade._cell_waves.cache_info().misses == misses
 
 
 def test_a_keyed_wind_s_residual_foam_is_shared_between_frames_and_continuous(monkeypatch):
