@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects, foam, look, optics
+from projgrid_addon import HeightField, effects, foam, look, optics, sea_states
 from projgrid_addon.camera import Camera, look_at, perspective
 from projgrid_addon.effects import SceneFacts, SceneObject, decide
 
@@ -285,3 +285,18 @@ def test_the_overcast_lights_the_sea_as_the_cie_sky():
     blue = optics.body_light(0.0, optics.sky_irradiance(1.0, 0.0))
     grey = optics.body_light(0.0, optics.sky_irradiance(1.0, 1.0))
     assert blue[2] / blue[0] > 1.2 * grey[2] / grey[0]  # the clear sky's light is bluer
+
+
+def test_the_sky_clouds_over_with_the_wind_without_a_step():
+    """Sea State's overcast: none to a fresh breeze's wind, all from a gale's, and between them
+    continuous in the wind (a sky keyed to a rising wind closes gradually; stepped by the
+    integer force it jumped by a third between forces 5 and 7), the presets' at their winds."""
+    winds = np.linspace(0.0, 30.0, 3001)
+    cloud = np.array([sea_states.overcast_for_wind(u) for u in winds])
+    assert cloud[winds <= 9.4].max() == 0.0 and cloud[winds >= 19.0].min() == 1.0
+    assert (np.diff(cloud) >= 0.0).all() and np.diff(cloud).max() < 0.002
+    for force, (_, wind, *_) in sea_states.BEAUFORT.items():
+        assert sea_states.overcast(force) == sea_states.overcast_for_wind(wind)
+    assert 0.0 < sea_states.overcast(6) < sea_states.overcast(7) < 1.0
+    with pytest.raises(ValueError, match="wind_speed"):
+        sea_states.overcast_for_wind(float("nan"))

@@ -358,21 +358,6 @@ def test_bad_sea_states_name_the_setting():
         SpectralField(SeaState(), choppiness=-0.5)
 
 
-def test_the_sky_clouds_over_with_the_wind_without_a_step():
-    """Sea State's overcast: none to a fresh breeze's wind, all from a gale's, and between them
-    continuous in the wind (a sky keyed to a rising wind closes gradually; stepped by the
-    integer force it jumped by a third between forces 5 and 7), the presets' at their winds."""
-    winds = np.linspace(0.0, 30.0, 3001)
-    cloud = np.array([sea_states.overcast_for_wind(u) for u in winds])
-    assert cloud[winds <= 9.4].max() == 0.0 and cloud[winds >= 19.0].min() == 1.0
-    assert (np.diff(cloud) >= 0.0).all() and np.diff(cloud).max() < 0.002
-    for force, (_, wind, *_) in sea_states.BEAUFORT.items():
-        assert sea_states.overcast(force) == sea_states.overcast_for_wind(wind)
-    assert 0.0 < sea_states.overcast(6) < sea_states.overcast(7) < 1.0
-    with pytest.raises(ValueError, match="wind_speed"):
-        sea_states.overcast_for_wind(float("nan"))
-
-
 def test_a_keyed_wind_changes_the_sea_smoothly():
     """Wind keyframed 8 -> 10 m/s over two seconds (48 frames): laid out for the keyed span, no
     frame moves the surface at fixed points more than twice the most a steady wind of either
