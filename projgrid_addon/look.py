@@ -104,3 +104,7 @@ def body_volume(absorption, water_colour):
 # The spray's puffs (spray.py): a puff's opacity at launch (it thins as it spreads and ages)
 # and the white its droplets scatter diffusely, the foam's.
 SPRAY_OPACITY = 1.0
+# The optical depth along a puff's diameter in units of its opacity's, -ln(1 - opacity): a chord
+# averages 2/3 of the diameter over the disc, so a thin puff's mean is its opacity
+# (shaders/materials.spray_material)
+SPRAY_CHORD = 1.5

@@ -8,6 +8,7 @@ import bpy
 from ..projgrid_addon.look import (
     FOAM_COLOUR,
     GODRAY_DENSITY,
+    SPRAY_CHORD,
     SPRAY_OPACITY,
     WATER_COLOUR,
     body_volume,
@@ -65,17 +66,25 @@ def shadow_material(caustic_mean):
 
 
 def spray_material():
-    """The spray's puffs: the foam's diffuse white, as opaque as each puff's opacity attribute
-    times SPRAY_OPACITY (the rest passes), casting no shadow."""
+    """The spray's puffs: clouds of droplets, each a sphere of even density, o its opacity
+    attribute times SPRAY_OPACITY, as opaque along a ray through it as 1 - (1 - o)^(SPRAY_CHORD
+    c) (Beer-Lambert over the chord, c = |normal . view| its share of the diameter), so a puff
+    fades out to its rim, its mean over the disc o's for a thin one, instead of ending in a
+    hard disc; lit as a level white patch (a droplet cloud scatters light many times: no
+    terminator of a solid ball), the rest passing, casting no shadow."""
     mat, g = _versioned_material(SPRAY_MATERIAL)
     if g is None:
         return mat
     opacity = g.node("ShaderNodeAttribute", attribute_name=SPRAY_ATTRIBUTES[1]).outputs["Fac"]
-    white = g.node("ShaderNodeBsdfDiffuse", {"Color": (*FOAM_COLOUR, 1.0)})
+    geo = g.node("ShaderNodeNewGeometry").outputs
+    chord = g.abs(g.vector("DOT_PRODUCT", geo["Normal"], geo["Incoming"]))
+    middle = g.math("MULTIPLY", opacity, SPRAY_OPACITY, clamp=True)
+    seen = 1.0 - g.pow(g.max(1.0 - middle, 0.0), chord * SPRAY_CHORD)
+    white = g.node("ShaderNodeBsdfDiffuse", {"Color": (*FOAM_COLOUR, 1.0),
+                                             "Normal": (0.0, 0.0, 1.0)})
     clear = g.node("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)})
-    puff = g.node("ShaderNodeMixShader", {
-        0: g.math("MULTIPLY", opacity, SPRAY_OPACITY, clamp=True), 1: clear.outputs[0],
-        2: white.outputs[0]})
+    puff = g.node("ShaderNodeMixShader", {0: g.clamp(seen), 1: clear.outputs[0],
+                                          2: white.outputs[0]})
     g.set(g.node("ShaderNodeOutputMaterial").inputs["Surface"], puff.outputs[0])
     return mat
 

@@ -332,3 +332,29 @@ def test_a_later_file_appends_the_first_build(extension, monkeypatch):
     finally:
         for path, _ in built._FILES.values():
             os.remove(path)
+
+
+def test_a_spray_puff_fades_out_to_its_rim(extension):
+    """The spray material draws a puff as a sphere of droplets of even density: opaque along a
+    ray as Beer-Lambert over the chord through it, 1 - (1 - o)^(1.5 cos), o its opacity (the
+    attribute times SPRAY_OPACITY), so it fades to nothing at its rim, its mean over the disc
+    o for a thin puff; lit as a level white patch (the diffuse's normal up), not a ball."""
+    materials, look = extension.shaders.materials, extension.projgrid_addon.look
+    tree = materials.spray_material().node_tree
+    mix = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeMixShader")
+    diffuse = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse")
+    assert not diffuse.inputs["Normal"].is_linked
+    assert tuple(diffuse.inputs["Normal"].default_value) == pytest.approx((0.0, 0.0, 1.0))
+    name = extension.shaders.water.SPRAY_ATTRIBUTES[1]
+
+    def seen(attribute, cos):
+        incoming = (math.sqrt(1.0 - cos * cos), 0.0, cos)  # the normal is up: |N . I| = cos
+        return Evaluator({}, 0.0, 10.0, incoming, attributes={name: attribute}).input(
+            mix.inputs[0])
+    o = 0.9 * look.SPRAY_OPACITY
+    assert seen(0.9, 1.0) == pytest.approx(1.0 - (1.0 - o) ** 1.5, rel=1e-5)
+    assert seen(0.9, 0.001) < 0.01 * seen(0.9, 1.0)
+    thin = 0.05
+    r = (np.arange(400) + 0.5) / 400.0  # rings of the disc, weighted by their area
+    mean = sum(seen(thin / look.SPRAY_OPACITY, math.sqrt(1.0 - x * x)) * x for x in r) / r.sum()
+    assert mean == pytest.approx(thin, rel=0.05)
