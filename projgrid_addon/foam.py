@@ -6,12 +6,9 @@ The crest threshold is the value of the source's fold cue exceeded by that share
 calibrated every FOAM_PERIOD seconds over each band's fade-in, so foam is a function of the
 frame alone (a farm splitting frames renders the same foam)."""
 
-import threading
-import weakref
-
 import numpy as np
 
-from . import past_grid, residual_foam, streaks
+from . import made_once, past_grid, residual_foam, streaks
 from .cascade import wind_lattice
 from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
@@ -75,78 +72,37 @@ def ahead(time, coverage, samples=16384):
     return [(t, coverage, samples) for t in ahead_times(time)]
 
 
-class Calibrations:
+class Calibrations(made_once.MadeOnce):
     """The whitecap calibrations made, kept per height source (which the plan keeps per
     settings: frame_plan.height_source) and per (time, coverage, samples): KEPT a source, the
-    oldest made dropped first. Thread-safe: a calibration being made elsewhere (`reserve`d,
-    the Blender layer's worker) is waited for, not made twice."""
+    oldest made dropped first (made_once.MadeOnce: made once across threads, the Blender
+    layer's worker making some ahead)."""
 
     KEPT = 4  # the frame's two and two ahead
 
-    def __init__(self):
-        self._made = weakref.WeakKeyDictionary()  # source -> {key: calibration}
-        self._making = {}  # (id(source), key) -> threading.Event
-        self._lock = threading.Lock()
-
     def get(self, source, key):
-        """The calibration of `source` at `key`, made here if nobody has or is making it."""
-        with self._lock:
-            made = self._made.get(source, {}).get(key)
-            making = self._making.get((id(source), key))
-        if made is None and making is not None:
-            making.wait()
-            with self._lock:
-                made = self._made.get(source, {}).get(key)
-        if made is None:  # on a twin where it has one: the source keeps no fields of it
-            made = calibration(getattr(source, "twin", lambda: source)(), *key)
-            self.put(source, key, made)
-        return made
-
-    def has(self, source, key):
-        with self._lock:
-            return key in self._made.get(source, {}) or (id(source), key) in self._making
-
-    def reserve(self, source, keys):
-        """Of `keys`, those neither made nor being made, now marked as being made (by the
-        caller, who then `put`s each or `release`s it)."""
-        with self._lock:
-            free = [k for k in keys if k not in self._made.get(source, {})
-                    and (id(source), k) not in self._making]
-            for key in free:
-                self._making[id(source), key] = threading.Event()
-        return free
-
-    def put(self, source, key, made):
-        with self._lock:
-            made_here = self._made.setdefault(source, {})
-            made_here[key] = made
-            for old in list(made_here)[:-self.KEPT]:
-                del made_here[old]
-
-    def release(self, source, key):
-        """No longer being made (made, or failed): whoever waits for it goes on."""
-        with self._lock:
-            making = self._making.pop((id(source), key), None)
-        if making is not None:
-            making.set()
-
-    def making(self):
-        """How many calibrations are being made."""
-        with self._lock:
-            return len(self._making)
+        """The calibration of `source` at `key`, made here if nobody has or is making it (on
+        a twin where it has one: the source keeps no fields of it)."""
+        return self.made(source, key, lambda: calibration(
+            getattr(source, "twin", lambda: source)(), *key))
 
 
 CALIBRATIONS = Calibrations()
 
 
-def calibration(source, time, coverage, samples):
+def calibration(source, time, coverage, samples, pause=None):
     """One calibration of `source` at `time` (see foam_thresholds): (levels, thresholds,
-    widths), a function of the source's settings and the time alone."""
+    widths), a function of the source's settings and the time alone. `pause`, called before
+    each level's cue is taken: a worker making it ahead waits there while a frame is built."""
     x, y = sea_sample(source.foam_span, samples)
     xy = np.stack([x, y])
     levels = np.asarray(source.foam_levels(), dtype=np.float64)
     placed = whitecap_level(source)
-    cues = [crest_cue(source, xy, time, np.full(x.shape, level, np.float32)) for level in levels]
+    cues = []
+    for level in levels:
+        if pause is not None:
+            pause()
+        cues.append(crest_cue(source, xy, time, np.full(x.shape, level, np.float32)))
     spreads = np.array([float(cue.std()) for cue in cues])
     whole = float(np.interp(placed, levels, spreads))
     widths = _ramp_widths(spreads, whole)

@@ -5,12 +5,48 @@ one being made here rather than make it twice. This is our only thread; it is fi
 Blender runs long native work (a render, the bake's export), beside which none may run (one
 beside the USD export crashed Blender 4.5)."""
 
+import contextlib
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 from ...projgrid_addon import foam
 
 _POOL = []  # the worker, made when first needed
 _JOBS = []  # its futures not yet finished (main thread only)
+# Set while no frame is being built. The threads share the interpreter, so a worker taking
+# cues beside a frame slows it as much as it works (on two cores, a keyed wind's frames 2.5x);
+# it waits here between a calibration's levels instead, working between frames (the viewport
+# draws them, the playback waits for the next) and while a frame stalls on a calibration.
+_IDLE = threading.Event()
+_IDLE.set()
+_LATEST = [None]  # the sea's time at the frame that last handed the worker calibrations
+URGENT = 0.5 * foam.FOAM_PERIOD  # s before the playback needs one: made beside the frames
+
+
+@contextlib.contextmanager
+def frame():
+    """Build a frame (main thread): the worker waits between levels meanwhile."""
+    _IDLE.clear()
+    try:
+        yield
+    finally:
+        _IDLE.set()
+
+
+@contextlib.contextmanager
+def stalled():
+    """A frame stalls on a calibration, waiting for the worker's or making it
+    (foam.CALIBRATIONS.stalled): the worker goes on meanwhile."""
+    was = _IDLE.is_set()
+    _IDLE.set()
+    try:
+        yield
+    finally:
+        if not was:
+            _IDLE.clear()
+
+
+foam.CALIBRATIONS.stalled = stalled
 
 
 def calibrate(source, time, wind_speed, winds_ahead=()):
@@ -20,6 +56,7 @@ def calibrate(source, time, wind_speed, winds_ahead=()):
     wind at those times) too; returns how many started. What the worker makes is what the
     frame would (foam.calibration, a function of the settings and the time), on a twin."""
     started = 0
+    _LATEST[0] = float(time)
     _JOBS[:] = [job for job in _JOBS if not job.done()]
     seas = {id(sea): (sea, wind) for w in (wind_speed, *winds_ahead)
             for sea, wind, _ in foam.calibrated_at(source, w)}  # (a keyed wind's: two each)
@@ -41,10 +78,22 @@ def calibrate(source, time, wind_speed, winds_ahead=()):
 
 
 def _make(twin, source, key):
+    if not foam.CALIBRATIONS.start(source, key):  # a frame took it over
+        return
     try:
-        foam.CALIBRATIONS.put(source, key, foam.calibration(twin, *key))
+        foam.CALIBRATIONS.put(source, key, foam.calibration(
+            twin, *key, pause=lambda: _pause(key[0])))
     finally:
         foam.CALIBRATIONS.release(source, key)
+
+
+def _pause(due):
+    """Between a calibration's levels: wait while a frame is built, unless the playback is
+    within URGENT of the time `due` it is needed at (then it is made beside the frames: slower
+    frames rather than one that stalls waiting for it)."""
+    while not _IDLE.wait(0.05):
+        if _LATEST[0] is not None and due - _LATEST[0] <= URGENT:
+            return
 
 
 def finish():

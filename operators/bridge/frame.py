@@ -6,7 +6,7 @@ import bpy
 
 from ...projgrid_addon import frame_plan, shading
 from ...shaders import sky
-from . import apply, bake_record, baked, companions, gather, mesh, objects, scene
+from . import ahead, apply, bake_record, baked, companions, gather, mesh, objects, scene
 from .state import RUNTIME
 
 
@@ -82,6 +82,11 @@ def update_scene(the_scene, depsgraph, render, frame_change):
     """Rebuild every ocean showing in `the_scene`; in renders, one line in the render log for
     each sea refused or built with a warning on this frame. `frame_change`: the frame changed
     (so the timeline markers' camera switch applies)."""
+    with ahead.frame():
+        _update_scene(the_scene, depsgraph, render, frame_change)
+
+
+def _update_scene(the_scene, depsgraph, render, frame_change):
     apps = scene.appearances(the_scene)
     if not render and not RUNTIME.rendering:
         companions.remove_stale_stand_ins(the_scene, apps)

@@ -159,21 +159,34 @@ def test_calibrations_are_kept_per_source_and_window_and_made_once():
     keys = foam.ahead(10.3, coverage)
     assert [k[0] for k in keys] == [11.0, 12.0] and kept.has(source, keys[0])
     assert kept.reserve(source, keys) == [keys[1]] and kept.reserve(source, keys) == []
-    made = []
+    made, began = [], threading.Event()
 
     def worker():
+        assert kept.start(source, keys[1])
+        began.set()
         made.append(foam.calibration(source.twin(), *keys[1]))
         kept.put(source, keys[1], made[0])
         kept.release(source, keys[1])
 
     thread = threading.Thread(target=worker)
     thread.start()
+    began.wait()
     got = kept.get(source, keys[1])  # waits for the worker's
     thread.join()
     assert got is made[0] and kept.making() == 0
     fresh = SpectralField(SeaState(wind_speed=12.0), choppiness=0.8, seed=6)
     want = foam.calibration(fresh, *keys[1])
     assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True))
+    # reserved but not started: the frame makes it (no wait for a worker's queue), the worker
+    # skips it; a worker's calibration pauses before each level (where a frame holds it)
+    later = foam.ahead(12.3, coverage)[1]
+    assert kept.reserve(source, [later]) == [later]
+    paused = []
+    taken = kept.get(source, later)
+    assert not kept.start(source, later) and kept.making() == 0 and kept.has(source, later)
+    again = foam.calibration(source.twin(), *later, pause=lambda: paused.append(1))
+    assert len(paused) == len(source.foam_levels())
+    assert all(np.array_equal(a, b) for a, b in zip(taken, again, strict=True))
 
 
 @pytest.mark.parametrize("share", [0.002, 0.01, 0.05, 0.3, 0.7, 0.95, 1.0])

@@ -151,7 +151,8 @@ def sea_cost(repeats=45):
 
 def playback_cost(seconds=3, rounds=2):
     """Frame times while playing the spectral sea on the viewport grid (Beaufort 5, foam on):
-    `seconds` of consecutive frames, with the coming seconds' whitecap calibrations made
+    `seconds` of consecutive frames, each started at its time at 24 fps as the viewport plays
+    them (a slow frame starts the next at once), with the coming seconds' whitecap calibrations made
     ahead on a worker thread (operators/bridge/ahead.py), with each made by the frame that
     first needs it, and (ahead) under a wind keyed from 8 to 10 m/s over the seconds (each
     frame a sea of its own), in turn, each round at times of its own. Per variant: the
@@ -180,10 +181,13 @@ def playback_cost(seconds=3, rounds=2):
                         obj.projgrid.wind_speed = wind
                         obj.projgrid.keyframe_insert("wind_speed", frame=frame)
                 scene.frame_set(first)
+                due = time.perf_counter()
                 for f in range(first + 1, last + 1):
                     t = time.perf_counter()
                     scene.frame_set(f)
                     frames[variant].append(time.perf_counter() - t)
+                    due = max(due + 1.0 / 24.0, time.perf_counter())  # as the viewport plays
+                    time.sleep(max(due - time.perf_counter(), 0.0))
                 if n == 2:
                     obj.animation_data_clear()
                     obj.projgrid.wind_speed = steady

@@ -321,12 +321,14 @@ def _sea(report):
     playback = results.get("playback")
     if playback:
         md += ["Playing the spectral sea on the viewport grid (65×129, Beaufort 5, foam on), "
-               "consecutive frames: the whitecaps are calibrated once a second (the "
-               "thresholds that give the wind's coverage, foam.foam_thresholds), made "
-               "ahead on a worker thread or by the frame that first needs them; and under a "
-               "wind keyed from 8 to 10 m/s over the frames, each frame a sea of its own, "
-               "its waves and whitecap calibrations interpolated between those of winds 5 % "
-               "apart (cascade.wind_lattice). Stalls: frames slower than twice the median.",
+               "each frame started at its time at 24 fps, as the viewport plays (a slow one "
+               "starts the next at once): the whitecaps are calibrated once a second "
+               "(foam.foam_thresholds), made ahead on a worker thread (waiting while a frame "
+               "is built, until the playback is half a second from needing one) or by the "
+               "frame that first needs them; and under a wind keyed from 8 to 10 m/s, each "
+               "frame a sea of its own, its waves and whitecap calibrations interpolated "
+               "between those of winds 5 % apart (cascade.wind_lattice). Stalls: frames "
+               "slower than twice the median.",
                "",
                _table(playback, [("variant", "variant", ""), ("frames", "frames", "d"),
                                  ("median ms", "median", ".1f"), ("p90 ms", "p90", ".1f"),
