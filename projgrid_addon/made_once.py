@@ -10,7 +10,7 @@ import weakref
 
 
 class MadeOnce:
-    KEPT = 4
+    """Values kept per source and key (a subclass sets KEPT, how many a source keeps)."""
 
     def __init__(self):
         self._made = weakref.WeakKeyDictionary()  # source -> {key: value}
@@ -55,6 +55,7 @@ class MadeOnce:
             return True
 
     def has(self, source, key):
+        """Whether `key` is made or being made."""
         with self._lock:
             return key in self._made.get(source, {}) or (id(source), key) in self._making
 
@@ -69,6 +70,7 @@ class MadeOnce:
         return free
 
     def put(self, source, key, made):
+        """Keep `made` as `key`'s, the source's oldest dropped past KEPT."""
         with self._lock:
             made_here = self._made.setdefault(source, {})
             made_here[key] = made

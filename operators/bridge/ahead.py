@@ -6,7 +6,9 @@ Blender runs long native work (a render, the bake's export), beside which none m
 beside the USD export crashed Blender 4.5)."""
 
 import contextlib
+import math
 import threading
+import weakref
 from concurrent.futures import ThreadPoolExecutor
 
 from ...projgrid_addon import foam
@@ -16,34 +18,52 @@ _JOBS = []  # its futures not yet finished (main thread only)
 # Set while no frame is being built. The threads share the interpreter, so a worker taking
 # cues beside a frame slows it as much as it works (on two cores, a keyed wind's frames 2.5x);
 # it waits here between a calibration's levels instead, working between frames (the viewport
-# draws them, the playback waits for the next) and while a frame stalls on a calibration.
+# draws them, the playback waits for the next), while a frame stalls on a calibration, and
+# beside the frames once the playback is URGENT from needing the one it makes.
 _IDLE = threading.Event()
 _IDLE.set()
-_LATEST = [None]  # the sea's time at the frame that last handed the worker calibrations
-URGENT = 0.5 * foam.FOAM_PERIOD  # s before the playback needs one: made beside the frames
+_BUILDING = [0]  # threads building a frame, not stalled
+_LOCK = threading.Lock()
+_LOCAL = threading.local()  # this thread's frame depth and whether it is stalled
+_LATEST = weakref.WeakKeyDictionary()  # sea -> its time at the last frame handing it over
+URGENT = 0.5 * foam.FOAM_PERIOD  # s
+
+
+def _building(change):
+    with _LOCK:
+        _BUILDING[0] += change
+        (_IDLE.clear if _BUILDING[0] else _IDLE.set)()
 
 
 @contextlib.contextmanager
 def frame():
-    """Build a frame (main thread): the worker waits between levels meanwhile."""
-    _IDLE.clear()
+    """Build a frame: the worker waits between levels meanwhile (nested frames count once)."""
+    depth = getattr(_LOCAL, "depth", 0)
+    _LOCAL.depth = depth + 1
+    if not depth:
+        _building(1)
     try:
         yield
     finally:
-        _IDLE.set()
+        _LOCAL.depth = depth
+        if not depth:
+            _building(-1)
 
 
 @contextlib.contextmanager
 def stalled():
-    """A frame stalls on a calibration, waiting for the worker's or making it
-    (foam.CALIBRATIONS.stalled): the worker goes on meanwhile."""
-    was = _IDLE.is_set()
-    _IDLE.set()
+    """A frame stalls on a calibration, waiting for the worker or making it itself
+    (foam.CALIBRATIONS.stalled; `finish`): the worker goes on meanwhile."""
+    inside = getattr(_LOCAL, "depth", 0) > 0 and not getattr(_LOCAL, "stalled", False)
+    if inside:
+        _LOCAL.stalled = True
+        _building(-1)
     try:
         yield
     finally:
-        if not was:
-            _IDLE.clear()
+        if inside:
+            _LOCAL.stalled = False
+            _building(1)
 
 
 foam.CALIBRATIONS.stalled = stalled
@@ -56,13 +76,13 @@ def calibrate(source, time, wind_speed, winds_ahead=()):
     wind at those times) too; returns how many started. What the worker makes is what the
     frame would (foam.calibration, a function of the settings and the time), on a twin."""
     started = 0
-    _LATEST[0] = float(time)
     _JOBS[:] = [job for job in _JOBS if not job.done()]
     seas = {id(sea): (sea, wind) for w in (wind_speed, *winds_ahead)
             for sea, wind, _ in foam.calibrated_at(source, w)}  # (a keyed wind's: two each)
     for sea, wind in seas.values():
         if getattr(sea, "twin", None) is None:
             continue
+        _LATEST[sea] = float(time)
         keys = foam.CALIBRATIONS.reserve(sea, foam.ahead(time, foam.active_coverage(sea, wind)))
         for n, key in enumerate(keys):
             try:
@@ -78,26 +98,33 @@ def calibrate(source, time, wind_speed, winds_ahead=()):
 
 
 def _make(twin, source, key):
-    if not foam.CALIBRATIONS.start(source, key):  # a frame took it over
+    """Make the calibration `key` of `source` on its `twin`, unless a frame took it over or the
+    playback has passed its time (a scrub ahead: no frame needs it now)."""
+    if not foam.CALIBRATIONS.start(source, key):
         return
     try:
-        foam.CALIBRATIONS.put(source, key, foam.calibration(
-            twin, *key, pause=lambda: _pause(key[0])))
+        latest = _LATEST.get(source)
+        if latest is None or key[0] >= math.floor(latest / foam.FOAM_PERIOD) * foam.FOAM_PERIOD:
+            foam.CALIBRATIONS.put(source, key, foam.calibration(
+                twin, *key, pause=lambda: _pause(source, key[0] - foam.FOAM_PERIOD)))
     finally:
         foam.CALIBRATIONS.release(source, key)
 
 
-def _pause(due):
-    """Between a calibration's levels: wait while a frame is built, unless the playback is
-    within URGENT of the time `due` it is needed at (then it is made beside the frames: slower
-    frames rather than one that stalls waiting for it)."""
+def _pause(source, needed):
+    """Between a calibration's levels: wait while a frame is built, unless the playback of
+    `source` is within URGENT of the time `needed` from which its frames need it (a frame at t
+    interpolates the calibrations at floor(t) and the next): then it is made beside the frames,
+    slower frames rather than one that stalls on it."""
     while not _IDLE.wait(0.05):
-        if _LATEST[0] is not None and due - _LATEST[0] <= URGENT:
+        latest = _LATEST.get(source)
+        if latest is not None and needed - latest <= URGENT:
             return
 
 
 def finish():
     """Wait for the calibrations being made (a worker's error is the frame's to meet, when it
     makes the calibration itself)."""
-    while _JOBS:
-        _JOBS.pop().exception()
+    with stalled():
+        while _JOBS:
+            _JOBS.pop().exception()

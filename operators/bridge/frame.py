@@ -24,9 +24,10 @@ def update_appearance(app, the_scene, depsgraph, render=None, view=None, setting
         render = depsgraph.mode == "RENDER"
     if playback(app, the_scene, depsgraph, frame_change):
         return None
-    read = gather.frame(app, the_scene, depsgraph, render, view, settings, frame_change)
-    plan, refusal = planned(read)
-    return apply.frame(read, plan, refusal)
+    with ahead.frame():  # the calibrations' worker waits meanwhile
+        read = gather.frame(app, the_scene, depsgraph, render, view, settings, frame_change)
+        plan, refusal = planned(read)
+        return apply.frame(read, plan, refusal)
 
 
 def planned(read):
@@ -82,11 +83,6 @@ def update_scene(the_scene, depsgraph, render, frame_change):
     """Rebuild every ocean showing in `the_scene`; in renders, one line in the render log for
     each sea refused or built with a warning on this frame. `frame_change`: the frame changed
     (so the timeline markers' camera switch applies)."""
-    with ahead.frame():
-        _update_scene(the_scene, depsgraph, render, frame_change)
-
-
-def _update_scene(the_scene, depsgraph, render, frame_change):
     apps = scene.appearances(the_scene)
     if not render and not RUNTIME.rendering:
         companions.remove_stale_stand_ins(the_scene, apps)

@@ -179,41 +179,44 @@ def test_playing_calibrates_the_coming_seconds_foam_ahead(sea, bridge, extension
 def test_the_worker_waits_while_a_frame_is_built(sea, bridge, extension, monkeypatch):
     """The worker making calibrations ahead takes no cue while a frame is built (the threads
     share the interpreter: it would slow the frame as much as it works) and goes on when the
-    frame ends, or while the frame waits for a calibration it is making (no deadlock), or
-    once the playback is within half a second of needing it."""
+    frame ends, while the frame waits for a calibration it is making (no deadlock), and once
+    the playback is within half a second of needing it."""
     foam, ahead = extension.projgrid_addon.foam, bridge.ahead
     sea.projgrid.foam = "ON"
     bpy.context.scene.frame_set(30)
     ahead.finish()
     source = bridge.scene.height_field(sea.projgrid)
     coverage = foam.active_coverage(source, sea.projgrid.wind_speed)
+    for t in (30.0, 31.0):  # what a frame at 30 s makes itself
+        foam.CALIBRATIONS.get(source, (t, coverage, 16384))
     cues, crest_cue = [], foam.crest_cue
     monkeypatch.setattr(foam, "crest_cue", lambda *a, **k: (cues.append(1), crest_cue(*a, **k))[1])
-    with ahead.frame():
-        assert ahead.calibrate(source, 30.0, sea.projgrid.wind_speed) == 2
-        time.sleep(0.5)
-        assert not cues and foam.CALIBRATIONS.making() == 2
-    while not cues:  # the frame over, the worker begins
-        time.sleep(0.01)
-    key = foam.ahead(30.0, coverage)[0]
-    safety = threading.Timer(20.0, ahead._IDLE.set)  # a deadlock fails the test, not CI
+    safety = threading.Timer(30.0, ahead._IDLE.set)  # a deadlock fails the test, not CI
     safety.start()
+
+    def until(seen, limit=10.0):
+        start = time.perf_counter()
+        while not seen() and time.perf_counter() - start < limit:
+            time.sleep(0.005)
+        return seen()
+    with ahead.frame():  # second 32's, needed from 31 s: not yet
+        assert ahead.calibrate(source, 30.0, sea.projgrid.wind_speed) == 1
+        time.sleep(0.5)
+        assert not cues and foam.CALIBRATIONS.making() == 1
+    assert until(lambda: cues)  # the frame over, the worker begins
     start = time.perf_counter()
     with ahead.frame():
-        made = foam.CALIBRATIONS.get(source, key)  # being made by the worker: waited for
-    waited = time.perf_counter() - start
-    safety.cancel()
-    assert made is not None and waited < 10.0
+        assert foam.CALIBRATIONS.making() == 1  # begun, not made: waited for
+        made = foam.CALIBRATIONS.get(source, (32.0, coverage, 16384))
+    assert made is not None and time.perf_counter() - start < 20.0
     ahead.finish()
-    assert foam.CALIBRATIONS.making() == 0
     cues.clear()
-    with ahead.frame():  # 40.6 s: second 41's calibration is due in 0.4 s
-        assert ahead.calibrate(source, 40.6, sea.projgrid.wind_speed) == 2
-        start = time.perf_counter()
-        while not cues and time.perf_counter() - start < 10.0:
-            time.sleep(0.01)
-        assert cues
+    with ahead.frame():  # at 40.2 s second 41's is needed now: made beside the frame
+        assert ahead.calibrate(source, 40.2, sea.projgrid.wind_speed) == 2
+        assert until(lambda: cues)
     ahead.finish()
+    safety.cancel()
+    assert foam.CALIBRATIONS.making() == 0
 
 
 def test_the_noise_foam_at_a_strong_wind_is_not_empty():

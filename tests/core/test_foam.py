@@ -181,9 +181,10 @@ def test_calibrations_are_kept_per_source_and_window_and_made_once():
     # skips it; a worker's calibration pauses before each level (where a frame holds it)
     later = foam.ahead(12.3, coverage)[1]
     assert kept.reserve(source, [later]) == [later]
-    paused = []
-    taken = kept.get(source, later)
-    assert not kept.start(source, later) and kept.making() == 0 and kept.has(source, later)
+    paused, worker_starts = [], []
+    taken = kept.made(source, later, lambda: (worker_starts.append(kept.start(source, later)),
+                                              foam.calibration(source.twin(), *later))[1])
+    assert worker_starts == [False] and kept.making() == 0 and kept.has(source, later)
     again = foam.calibration(source.twin(), *later, pause=lambda: paused.append(1))
     assert len(paused) == len(source.foam_levels())
     assert all(np.array_equal(a, b) for a, b in zip(taken, again, strict=True))
