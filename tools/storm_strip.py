@@ -1,7 +1,8 @@
 """A storm building over a shot: the wind keyed from Beaufort 3 to 9 over ten seconds (the sea
 state of force 9 otherwise, so its fetch and choppiness), blowing toward the camera from 30
 degrees left of its view (the waves come at it, their faces and the streaks along the wind in
-view, as a storm is watched from a deck facing the sea), the sky keyed at each shot to the cloud
+view, as a storm is watched from a deck facing the sea), the sun behind the camera as for the
+Beaufort pictures (tools/beaufort.py), the sky keyed at each shot to the cloud
 of the wind then (sea_states.overcast_for_wind), rendered at six times from 20 m up and put
 side by side in docs/storm_strip.png, left to right in time.
 
@@ -45,7 +46,8 @@ def shoot(out, quick=False):
     from bpy_extras import anim_utils
 
     from projgrid_addon import sea_states
-    from tools.beaufort import render
+    from tools.beaufort import SUN_AZIMUTH, render
+    from tools.bench.blender_bench import extension
     from tools.demo import default_shot
 
     size, samples = ((160, 90), 4) if quick else ((320, 180), 16)
@@ -56,6 +58,9 @@ def shoot(out, quick=False):
     bpy.context.view_layer.objects.active = ocean
     ocean.projgrid.wind_direction = math.radians(WIND)  # Sea State turns the swell off it
     bpy.ops.projgrid.sea_state(beaufort=FORCES[1])
+    for obj in scene.objects:  # out of the glitter, which hides the whitecaps in it
+        if obj.type == "LIGHT" and obj.data.type == "SUN":
+            extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
     fps = scene.render.fps / scene.render.fps_base
     frames = [1 + round(t * fps) for t in (0.0, SECONDS)]
     winds = [sea_states.BEAUFORT[force][1] for force in FORCES]

@@ -394,7 +394,7 @@ def _strip(report):
     report.md += [
         "### A storm building", "",
         "The wind keyed from Beaufort 3 to 9 over ten seconds (force 9's fetch and choppiness), "
-        "blowing toward the camera from 30° left of its view, the sky keyed at each shot to the "
-        f"wind's cloud, from 20 m up (8° down), left to right in time: {steps}. "
-        "`tools/storm_strip.py`.", "",
+        "blowing toward the camera from 30° left of its view, the sun behind the camera, the "
+        f"sky keyed at each shot to the wind's cloud, from 20 m up (8° down), left to right in "
+        f"time: {steps}. `tools/storm_strip.py`.", "",
         f"![A storm building, Beaufort 3 to 9 in ten seconds]({strip['path']})", ""]
