@@ -161,8 +161,8 @@ def shoot(out, quick=False):
             camera = default_shot(scene, size=size, samples=samples, height=height, pitch=pitch)
             ocean = bpy.data.objects["Ocean"]
             bpy.context.view_layer.objects.active = ocean
+            ocean.projgrid.wind_direction = math.radians(WIND)  # Sea State turns the swell off it
             bpy.ops.projgrid.sea_state(beaufort=force)
-            ocean.projgrid.wind_direction = math.radians(WIND)
             for obj in scene.objects:
                 if obj.type == "LIGHT" and obj.data.type == "SUN":
                     extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
