@@ -42,6 +42,16 @@ WHITE = 0.5  # a pixel's foam cover from which it reads as white
 SUN_AZIMUTH = 140.0
 
 
+def sun_behind(scene):
+    """Aim the scene's sun lamps from SUN_AZIMUTH, behind the camera off its left shoulder: out
+    of the glitter, which hides the whitecaps in it."""
+    from tools.bench.blender_bench import extension
+
+    for obj in scene.objects:
+        if obj.type == "LIGHT" and obj.data.type == "SUN":
+            extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
+
+
 def views(count):
     """(frame, the camera's x in m) of `count` views: FRAME's from x = 0 first, then each 2 s
     later, the camera moved 700 m across the view (further than a view from 300 m holds),
@@ -148,7 +158,6 @@ def shoot(out, quick=False):
     import numpy as np
 
     from projgrid_addon import effects, streaks
-    from tools.bench.blender_bench import extension
     from tools.demo import default_shot
 
     size, samples = ((240, 135), SHARE_SAMPLES) if quick else ((480, 270), 16)
@@ -163,9 +172,7 @@ def shoot(out, quick=False):
             bpy.context.view_layer.objects.active = ocean
             ocean.projgrid.wind_direction = math.radians(WIND)  # Sea State turns the swell off it
             bpy.ops.projgrid.sea_state(beaufort=force)
-            for obj in scene.objects:
-                if obj.type == "LIGHT" and obj.data.type == "SUN":
-                    extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
+            sun_behind(scene)
             group = ocean.data.materials[0].node_tree.nodes["Projected Grid Water"].node_tree
             name = f"beaufort_{force}_{int(height)}m.png"
             u = ocean.projgrid.wind_speed

@@ -46,8 +46,7 @@ def shoot(out, quick=False):
     from bpy_extras import anim_utils
 
     from projgrid_addon import sea_states
-    from tools.beaufort import SUN_AZIMUTH, render
-    from tools.bench.blender_bench import extension
+    from tools.beaufort import render, sun_behind
     from tools.demo import default_shot
 
     size, samples = ((160, 90), 4) if quick else ((320, 180), 16)
@@ -58,9 +57,7 @@ def shoot(out, quick=False):
     bpy.context.view_layer.objects.active = ocean
     ocean.projgrid.wind_direction = math.radians(WIND)  # Sea State turns the swell off it
     bpy.ops.projgrid.sea_state(beaufort=FORCES[1])
-    for obj in scene.objects:  # out of the glitter, which hides the whitecaps in it
-        if obj.type == "LIGHT" and obj.data.type == "SUN":
-            extension().shaders.sky.aim(obj, azimuth=SUN_AZIMUTH)
+    sun_behind(scene)
     fps = scene.render.fps / scene.render.fps_base
     frames = [1 + round(t * fps) for t in (0.0, SECONDS)]
     winds = [sea_states.BEAUFORT[force][1] for force in FORCES]
