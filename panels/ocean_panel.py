@@ -36,6 +36,9 @@ def stats_lines(obj, the_scene):
         ]
     if state is not None and state.warning:
         lines.append(("ERROR", f"Flat: {state.warning}"))
+    note = frame.cycles_note(the_scene, obj)
+    if note:
+        lines.append(("ERROR", note))
     if not the_scene.render.use_lock_interface:
         lines.append(("LOCKED", "Lock Interface is off: renders need it (Render > Lock "
                       "Interface), since the ocean is rebuilt while rendering"))

@@ -58,12 +58,13 @@ def band_level(shortest):
     return float(np.log2(1.0 / shortest) + 0.5)
 
 
-def band_shares(state):
-    """Each band's share of the sea's height variance, and last the swell's core's
-    (spectrum.in_swell_core: its own tiles). The waves longer than BAND_LONGEST count with the
-    first band, the shorter than the last band's with none."""
-    edges = [2.0 * np.pi / lo for lo, _ in bands()]  # wavenumbers of the bands' short ends
-    omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *edges]))
+def band_shares(state, halves=False):
+    """Each band's share of the sea's height variance (`halves`: each band's long half's and
+    then its short half's, `pieces`), and last the swell's core's (spectrum.in_swell_core: its
+    own tiles). The waves longer than BAND_LONGEST count with the first band, the shorter than
+    the last band's with none."""
+    ends = [lo for band in bands() for lo, _ in (pieces(*band) if halves else [band])]
+    omega = np.sqrt(spectrum.GRAVITY * np.array([0.0, *(2.0 * np.pi / np.array(ends))]))
     parts, core, own = [], 0.0, has_swell_core(state)
     for a, b in zip(omega[:-1], omega[1:], strict=True):
         w = np.linspace(max(a, 1e-4), b, 4000)
@@ -74,6 +75,13 @@ def band_shares(state):
         core += inside
     total = sum(parts) + core
     return [p / total if total > 0.0 else 0.0 for p in [*parts, core]]
+
+
+def pieces(shortest, longest):
+    """A band's halves, (shortest, longest) each, the long first: cut at its geometric middle,
+    so the long half is whole in the geometry an octave of grid spacing further."""
+    middle = float(np.sqrt(shortest * longest))
+    return [(middle, longest), (shortest, middle)]
 
 
 def has_swell_core(state):
@@ -304,24 +312,29 @@ class Cascade:
         return np.fft.irfft2(spectra, s=(self.texels, self.texels), norm="forward")
 
 
-def layout_shares(state, wind_span=None):
+def layout_shares(state, wind_span=None, halves=False):
     """The band shares (`band_shares`) a layout is made for: `state`'s, or over a `wind_span`
     (least, most m/s; widened to the state's own wind) the most each band takes at any wind
     in it (sampled every 0.25 m/s and at its ends), so one layout serves a wind keyframed
     through the span."""
     if wind_span is None:
-        return band_shares(state)
+        return band_shares(state, halves)
     u = float(state.wind_speed)
     lo, hi = min(*wind_span, u), max(*wind_span, u)
-    return list(_span_shares(replace(state, wind_speed=float(lo)), float(hi)))
+    return list(_span_shares(replace(state, wind_speed=float(lo)), float(hi), halves))
 
 
 @lru_cache(maxsize=16)
-def _span_shares(state, most):
+def _span_shares(state, most, halves):
     """`layout_shares` from `state`'s wind up to `most` (kept: every frame of the shot asks)."""
     winds = np.linspace(state.wind_speed, most, int((most - state.wind_speed) / 0.25) + 2)
-    return tuple(np.max([band_shares(replace(state, wind_speed=float(u))) for u in winds],
-                        axis=0))
+    return tuple(np.max([band_shares(replace(state, wind_speed=float(u)), halves)
+                         for u in winds], axis=0))
+
+
+def _count(share):
+    """How many tiles a `share` of the sea's variance is spread over (SHARE_PER_TILE each)."""
+    return int(np.clip(np.ceil(share / SHARE_PER_TILE), 1, len(TILE_RATIOS)))
 
 
 def layout(state, seed, texels_base, wind_span=None):
@@ -330,39 +343,57 @@ def layout(state, seed, texels_base, wind_span=None):
     a keyframed wind's span) is spread over ceil(share / SHARE_PER_TILE) tiles of sizes
     TILE_RATIOS apart, turned evenly over a quarter turn, with phases of their own, and their
     energy is the state's (under a keyed wind, interpolated: Cascade); the swell's core (the
-    last group) is band-limited along its headings."""
+    last group) is band-limited along its headings. A band longer than the slope layer's
+    that needs several tiles (most of the sea's height) is laid out as its halves (`pieces`),
+    a group each: about as many tiles, but where the grid's spacing drops the short half (a
+    few hundred metres from a low camera, the rows tens of metres deep) the long half stays,
+    so the far sea keeps its height to twice the distance."""
     cascades, groups = [], []
     swell = has_swell_core(state)
     shares = layout_shares(state, wind_span)
+    halves = layout_shares(state, wind_span, halves=True)
     for b, ((shortest, longest), share) in enumerate(zip(
             [*bands(), swell_core_waves(state)], shares, strict=True)):
         if share < 1e-7:
             continue
         core = b == BANDS
-        count = int(np.clip(np.ceil(share / SHARE_PER_TILE), 1, len(TILE_RATIOS)))
-        # A band holding much of the sea gets larger tiles: fewer repeats in view.
-        texels = texels_base * (BIG if share > SHARE_PER_TILE else 1)
-        base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples
-        part = ("swell core" if core else "without swell core") if swell else None
-        first = len(cascades)
-        for j in range(count):
-            # Turned evenly over the quarter turn a square lattice repeats in, so no two
-            # tiles' lattices line up (and the crests of a band never run along them all).
-            angle = np.radians((90.0 * j / count + 23.0 * b) % 90.0)
-            cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count,
-                              state, tile_phases(seed, b, j, texels), texels, part,
-                              smooth=core, keyed=wind_span is not None)
-            if not cascade.empty:
-                cascades.append(cascade)
-        made = cascades[first:]
-        if not made:
-            continue
-        if core:  # the band limit of the waves its tiles hold, along their directions
-            level = band_level(min(c.shortest_held for c in made))
-            off = max(line_angle(c.headings, state.swell_direction) for c in made)
-            along = (np.cos(state.swell_direction), np.sin(state.swell_direction),
-                     np.cos(off), np.sin(off))
-        else:
-            level, along = band_level(shortest), None
-        groups.append((level, along, range(first, len(cascades))))
+        split = not core and b < LAYER_FIRST and _count(share) > 1
+        for half, (lo, hi) in enumerate(pieces(shortest, longest) if split
+                                        else [(shortest, longest)]):
+            group = _group(state, seed, texels_base, wind_span, swell, b, lo, hi,
+                           halves[2 * b + half] if split else share, half + split)
+            if group is not None:
+                groups.append((*group[0], range(len(cascades), len(cascades) + len(group[1]))))
+                cascades.extend(group[1])
     return cascades, groups
+
+
+def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, share, piece):
+    """((band limit, heading), tiles) of band b's waves from `shortest` to `longest` (m) with
+    `share` of the variance (`piece`: 0 the whole band, 1 its long half, 2 its short), or None
+    if no tile holds a wave."""
+    core = b == BANDS
+    count = _count(share)
+    # A band holding much of the sea gets larger tiles: fewer repeats in view.
+    texels = texels_base * (BIG if share > SHARE_PER_TILE else 1)
+    base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples
+    part = ("swell core" if core else "without swell core") if swell else None
+    made = []
+    for j in range(count):
+        # Turned evenly over the quarter turn a square lattice repeats in, so no two tiles'
+        # lattices line up (and the crests of a band never run along them all); a long half
+        # turned half a step from its short half.
+        angle = np.radians((90.0 * (j + 0.5 * (piece == 1)) / count + 23.0 * b) % 90.0)
+        cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count, state,
+                          tile_phases(seed, b, j + len(TILE_RATIOS) * (piece == 1), texels),
+                          texels, part, smooth=core, keyed=wind_span is not None)
+        if not cascade.empty:
+            made.append(cascade)
+    if not made:
+        return None
+    if core:  # the band limit of the waves its tiles hold, along their directions
+        off = max(line_angle(c.headings, state.swell_direction) for c in made)
+        return (band_level(min(c.shortest_held for c in made)),
+                (np.cos(state.swell_direction), np.sin(state.swell_direction),
+                 np.cos(off), np.sin(off))), made
+    return (band_level(shortest), None), made

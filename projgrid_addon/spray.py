@@ -9,8 +9,9 @@ jittered by a hash of its indices: fixed in the sea, not the camera), launch tim
 absolute lattice STEP s apart. As the projected grid's detail follows the camera, so does the
 spray's: ring 0's sites lie CELL m apart within REACH of the camera, each further ring's twice
 as far apart out to twice as far, their puffs twice as wide (fewer, larger puffs a pixel still
-resolves), the rings cross-fading over FADE of an octave of distance
-(`ring_weight`). A launch throws its puffs from along the crest through its site's cell (a
+resolves), the rings cross-fading over FADE of an octave of distance and the last thinning
+out over its own (`ring_weight`): far off, spray is a veil over the sea, not puffs standing on
+the horizon. A launch throws its puffs from along the crest through its site's cell (a
 veil across the wind, not a dome over one point). A site launches at a lattice
 time with the probability of the active whitecap share there then (the frame's whitecaps,
 foam.at_thresholds, from the cue at the site before the choppy displacement) times the wind's
@@ -44,7 +45,7 @@ BLOCK = 16  # sites a block has each way (the unit launches are kept in)
 STEP = 0.5  # s between launch times
 LIFE = 2.0  # s a droplet is drawn at most (fading over its life)
 REACH = 150.0  # m from the camera (along the sea) ring 0 reaches
-RINGS = 4  # lattices of launch sites, each twice the last's spacing, reach and puffs
+RINGS = 3  # lattices of launch sites, each twice the last's spacing, reach and puffs
 FADE = 0.25  # of an octave of distance: the rings' cross-fade
 MARGIN = 60.0  # m beside the view's wedge whose sites' spray the wind may carry into view
 PER_LAUNCH = 16  # puffs a launch throws
@@ -75,12 +76,16 @@ def spray_rate(wind_speed):
 
 def ring_weight(distance, ring):
     """How much of ring `ring`'s spray is drawn at `distance` (m) from the camera along the
-    sea: the rings, an octave of distance each beyond REACH, sum to 1 out to the last's reach,
-    each fading into the next over FADE of an octave."""
+    sea: the rings, an octave of distance each beyond REACH, sum to 1 out to the last's start,
+    each fading into the next over FADE of an octave, and the last thins out linearly in log
+    distance to none at its reach (a puff there, 2^ring as wide, would stand on the horizon
+    line as a bump from a low camera)."""
     t = np.log2(np.maximum(distance, 1e-9) / REACH) + 1.0  # ring r spans [r, r + 1)
 
     def inside(boundary):  # past the boundary between ring boundary - 1 and ring boundary
         return np.clip((t - boundary) / FADE + 0.5, 0.0, 1.0) if boundary > 0 else 1.0
+    if ring == RINGS - 1:
+        return inside(ring) * np.clip(RINGS - t, 0.0, 1.0)
     return inside(ring) - inside(ring + 1)
 
 

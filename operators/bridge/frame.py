@@ -96,10 +96,30 @@ def update_scene(the_scene, depsgraph, render, frame_change):
         surface = surface_state(app.ocean)
         warning = surface.warning if surface is not None else None
         if render:
-            for kind, text in (("not built", message), ("warning", warning)):
+            for kind, text in (("not built", message), ("warning", warning),
+                               ("note", cycles_note(the_scene, app.ocean))):
                 if text:
                     print(f"Projected Grid Ocean: frame {the_scene.frame_current}: "
                           f"{app.ocean.name_full!r} {kind}: {text}", flush=True)
+
+
+SPRAY_BOUNCES = 16  # transparent bounces a Cycles ray needs through the puffs toward the horizon
+
+
+def cycles_note(the_scene, obj):
+    """What Cycles would get wrong in this ocean's last built frame, and the setting to change,
+    or None: a ray toward the horizon crosses many of the spray's puffs, and one that runs out
+    of transparent bounces ends black (a grey band of puffs along the horizon)."""
+    if the_scene.render.engine != "CYCLES":  # (its settings exist only while it is enabled)
+        return None
+    state = surface_state(obj)
+    on = (state.effects or {}).get("spray", (False, ""))[0] if state is not None else False
+    bounces = the_scene.cycles.transparent_max_bounces
+    if not on or bounces >= SPRAY_BOUNCES:
+        return None
+    return (f"Cycles stops rays after {bounces} transparent bounces: the spray renders grey "
+            f"toward the horizon; raise Render > Light Paths > Max Bounces > Transparent to "
+            f"{2 * SPRAY_BOUNCES}")
 
 
 def surface_state(obj):

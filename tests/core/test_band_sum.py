@@ -13,6 +13,7 @@ from projgrid_addon.projected_grid import build_grid
 from projgrid_addon.spectral_field import SpectralField
 from projgrid_addon.spectrum import SeaState
 
+ORIGIN = (0.0, 0.0)  # every sample's points offset from here
 SEAS = [SeaState(wind_speed=19.0), SeaState(wind_speed=9.0, swell_height=1.5, swell_period=12.0,
                                             swell_direction=1.0)]
 
@@ -22,7 +23,8 @@ SEAS = [SeaState(wind_speed=19.0), SeaState(wind_speed=9.0, swell_height=1.5, sw
 def test_the_crest_sum_is_the_capped_waves_sideways(state, choppiness):
     """At points apart, of band limits across every band's fade-in (and of none: every band
     whole), the crest sum at a cap is the SIDEWAYS fields sampled alone at min(lod, cap),
-    within float32 rounding, at caps on a band's level, inside its fade-in and beyond every
+    within float32 rounding (the points' offsets from one origin, so only the sums' order
+    differs), at caps on a band's level, inside its fade-in and beyond every
     band, and so with the bands summed in reverse order; the sums beside it are those sampled
     without it, bit for bit."""
     sea = SpectralField(state, choppiness=choppiness, seed=4)
@@ -37,10 +39,10 @@ def test_the_crest_sum_is_the_capped_waves_sideways(state, choppiness):
             capped = None if points is None else np.minimum(points, np.float32(cap))
             if points is None:
                 capped = np.full(lod.shape, np.float32(cap))
-            alone = sea.sample(xy, 7.0, capped, SIDEWAYS)
+            alone = sea.sample(xy, 7.0, capped, SIDEWAYS, origin=ORIGIN)
             for source in (sea, reverse):
-                sums, crest = source.sample(xy, 7.0, points, GEOMETRY, crest=cap)
-                assert np.array_equal(sums, source.sample(xy, 7.0, points, GEOMETRY))
+                sums, crest = source.sample(xy, 7.0, points, GEOMETRY, crest=cap, origin=ORIGIN)
+                assert np.array_equal(sums, source.sample(xy, 7.0, points, GEOMETRY, origin=ORIGIN))
                 assert crest.dtype == np.float32 and crest.shape == (2, 40, 50)
                 assert np.abs(crest - alone).max() < 1e-5 * scale, (cap, points is None)
     inside = sea.sample(xy, 7.0, lod, GEOMETRY, crest=sea.levels[2] + 0.4)[1]

@@ -59,33 +59,38 @@ def test_the_foam_calibration_sees_the_folding_as_a_mesh_does():
 def test_foam_covers_the_whitecap_share_and_stays_steady(u):
     """The mean foam over the sea is Monahan's whitecap coverage within a factor of 1.5, at
     full detail, with a band whole and with a band fading in (most vertices hold one in part),
-    and changes by less than 30 % in a second. One sea: the calibration's 16384 points hold
-    some 80 folds at 10 m/s, so the change is itself uncertain by some 15 %; over seeds 6-23
-    at 10 m/s one sea's change at full detail reached 32 % (seed 6, 19 % without the warp).
+    and changes by less than 30 % in a second (the median over three seas). One sea's change is
+    itself uncertain: the calibration's 16384 points hold some 80 folds at 10 m/s; over seeds
+    6-23 at 6 m/s it had a median of 10-18 % and reached 36 % (its 90th percentile 23-30 %).
     """
-    source = SpectralField(SeaState(wind_speed=u), choppiness=0.8, seed=7)
-    fading = sorted(set(source.levels))[len(set(source.levels)) // 2]  # fades in to + 1
-    check_whitecap_share_and_steadiness(source, u, (fading + 1.0, fading + 0.6))
+    sources = [SpectralField(SeaState(wind_speed=u), choppiness=0.8, seed=seed)
+               for seed in range(7, 10)]
+    fading = sorted(set(sources[0].levels))[len(set(sources[0].levels)) // 2]  # fades in to + 1
+    check_whitecap_share_and_steadiness(sources, u, (fading + 1.0, fading + 0.6))
 
 
 FOAM_POINTS = np.random.default_rng(3).uniform(-3e3, 3e3, (2, 60_000))
 
 
-def check_whitecap_share_and_steadiness(source, u, levels):
-    """The mean foam of `source` over FOAM_POINTS, at full detail and at each band limit of
-    `levels`, is Monahan's coverage for the wind `u` within a factor of 1.5 at 10 s and 11 s,
-    and each changes by less than 30 % from the one to the other."""
+def check_whitecap_share_and_steadiness(sources, u, levels):
+    """The mean foam of each of `sources` over FOAM_POINTS, at full detail and at each band
+    limit of `levels`, is Monahan's coverage for the wind `u` within a factor of 1.5 at 10 s
+    and 11 s, and each changes by less than 30 % from the one to the other (the median over
+    the sources)."""
     want = effects.whitecap_coverage(u)
     lods = (None, *(np.full(FOAM_POINTS.shape[1:], level) for level in levels))
-    means = []
-    for t in (10.0, 11.0):
-        calibration = foam.foam_thresholds(source, t, want)
-        for lod in lods:
-            cover = foam.whitecaps(foam.crest_cue(source, FOAM_POINTS, t, lod), lod, calibration)
-            assert want / 1.5 < cover.mean() < want * 1.5, (lod if lod is None else lod[0])
-            means.append(cover.mean())
-    for now, later in zip(means[:len(lods)], means[len(lods):], strict=True):
-        assert later == pytest.approx(now, rel=0.3)
+    changes = []
+    for source in sources:
+        means = []
+        for t in (10.0, 11.0):
+            calibration = foam.foam_thresholds(source, t, want)
+            for lod in lods:
+                cover = foam.whitecaps(foam.crest_cue(source, FOAM_POINTS, t, lod), lod,
+                                       calibration)
+                assert want / 1.5 < cover.mean() < want * 1.5, (lod if lod is None else lod[0])
+                means.append(cover.mean())
+        changes.append(np.abs(np.divide(means[len(lods):], means[:len(lods)]) - 1.0))
+    assert (np.median(changes, axis=0) < 0.3).all(), changes
 
 
 @pytest.mark.parametrize("u", [6.0, 15.0, 25.0])
@@ -97,7 +102,7 @@ def test_the_noise_s_foam_covers_the_whitecap_share_and_stays_steady(u):
     first second the low one)."""
     amplitude, wave_scale = sea_states.noise_waves(u)
     source = HeightField(amplitude=amplitude, wave_scale=wave_scale, choppiness=0.8, seed=0)
-    check_whitecap_share_and_steadiness(source, u, (3.6,))
+    check_whitecap_share_and_steadiness([source], u, (3.6,))
 
 
 def test_a_swell_brings_no_foam_to_the_far_sea():

@@ -130,12 +130,16 @@ def test_puffs_leave_the_crests_and_ride_the_wind():
 
 def test_the_spray_s_detail_follows_the_camera_in_rings():
     """Ring r's sites lie 2^r CELL apart out to 2^r REACH and throw puffs 2^r as wide; the
-    rings' weights sum to 1 from the camera to the last ring's reach and fade out beyond, so
-    no band of distance gets twice the spray or none."""
+    rings' weights sum to 1 from the camera to the last ring's start, so no band of distance
+    gets twice the spray or none, and thin out over the last ring's octave to none at its
+    reach, falling all the way."""
     d = np.geomspace(1.0, spray.REACH * 2.0 ** (spray.RINGS + 1), 400)
     total = sum(spray.ring_weight(d, r) for r in range(spray.RINGS))
-    inside = d < spray.REACH * 2.0 ** (spray.RINGS - 1 - spray.FADE)
+    last = spray.REACH * 2.0 ** (spray.RINGS - 2)
+    inside, thinning = d < last * 2.0 ** (-spray.FADE / 2.0), d > last * 2.0 ** (spray.FADE / 2.0)
     assert total[inside] == pytest.approx(1.0) and total[-1] == 0.0
+    assert (np.diff(total[thinning]) <= 0.0).all() and total[thinning][0] > 0.8
+    assert total[d >= 2.0 * last].max() == 0.0
     assert all((spray.ring_weight(d, r) >= 0.0).all() for r in range(spray.RINGS))
     for ring in (0, 2):
         ix, iy, xy = spray.sites(3, -2, ring)

@@ -212,7 +212,7 @@ def test_no_standing_back_for_a_camera_upside_down_past_straight_down():
 def test_a_fitted_volume_that_misses_the_sea_is_not_kept(monkeypatch):
     """A volume too thin for the sea leaves a gap under the screen (the coverage check sees it);
     the border check turns it down and the true bounds are used."""
-    pose = Pose(**{**LOW_SHOTS[6.7].__dict__, "time": 4.5})  # a crest under the screen's edge
+    pose = Pose(**{**LOW_SHOTS[6.7].__dict__, "time": 4.0})  # a crest under the screen's edge
     camera, thin = pose.build(extent=Extent(0.05, 0.05, 0.05, fitted=True))
     with pytest.raises(AssertionError, match="coverage"):
         check_coverage(camera, thin, pose.level, pose.height_field().bounds(pose.time)[0], n=33)
