@@ -1,7 +1,6 @@
 """The benchmark report's sections on rendering and the scene: EEVEE's render cost and the
 filtering's flicker, the effects, the scene's updates, the side-by-side pictures and memory."""
 
-
 from .report_format import Target, _finish, _maybe, _save, _spread, _table
 
 # §6 without the filtering from geometry to BRDF: seconds per render of the water group and of a
@@ -355,7 +354,8 @@ def _storm(report):
                 f"{r['ratio']:.2f}×", r["ratio"] <= 1.3,
                 f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
                 "screen (waves to the horizon), so more vertices are near and detailed, each "
-                "with more bands to sample; the spray adds its puffs; the residual foam's "
+                "with more bands to sample (the main bands' halves add two tiles and ten "
+                "calibrated levels); the spray adds its puffs; the residual foam's "
                 "past samples are kept " + (
                     "on canonical cameras' grids (past_grid.py; the camera dollies 2 m a frame "
                     "along its heading), made anew at each 8 m step of their lattice."
