@@ -74,8 +74,7 @@ def look_note(obj):
 
 def effect_lines(obj):
     """(effect, "on: reason" or "off: reason") for the last built frame."""
-    state = frame.surface_state(obj)
-    decisions = (state.effects if state is not None else None) or {}
+    decisions = frame.last_effects(obj)
     lines = []
     for effect in effects.EFFECTS:
         on, reason = decisions.get(effect, (False, "not built yet"))

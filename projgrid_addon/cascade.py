@@ -361,17 +361,18 @@ def layout(state, seed, texels_base, wind_span=None):
         for half, (lo, hi) in enumerate(pieces(shortest, longest) if split
                                         else [(shortest, longest)]):
             group = _group(state, seed, texels_base, wind_span, swell, b, lo, hi,
-                           halves[2 * b + half] if split else share, half + split)
+                           halves[2 * b + half] if split else share, split and half == 0)
             if group is not None:
                 groups.append((*group[0], range(len(cascades), len(cascades) + len(group[1]))))
                 cascades.extend(group[1])
     return cascades, groups
 
 
-def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, share, piece):
+def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, share,
+           long_half):
     """((band limit, heading), tiles) of band b's waves from `shortest` to `longest` (m) with
-    `share` of the variance (`piece`: 0 the whole band, 1 its long half, 2 its short), or None
-    if no tile holds a wave."""
+    `share` of the variance (`long_half`: they are the band's long half), or None if no tile
+    holds a wave."""
     core = b == BANDS
     count = _count(share)
     # A band holding much of the sea gets larger tiles: fewer repeats in view.
@@ -383,9 +384,9 @@ def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, sha
         # Turned evenly over the quarter turn a square lattice repeats in, so no two tiles'
         # lattices line up (and the crests of a band never run along them all); a long half
         # turned half a step from its short half.
-        angle = np.radians((90.0 * (j + 0.5 * (piece == 1)) / count + 23.0 * b) % 90.0)
+        angle = np.radians((90.0 * (j + 0.5 * long_half) / count + 23.0 * b) % 90.0)
         cascade = Cascade(base * TILE_RATIOS[j], angle, shortest, longest, 1.0 / count, state,
-                          tile_phases(seed, b, j + len(TILE_RATIOS) * (piece == 1), texels),
+                          tile_phases(seed, b, j + len(TILE_RATIOS) * long_half, texels),
                           texels, part, smooth=core, keyed=wind_span is not None)
         if not cascade.empty:
             made.append(cascade)

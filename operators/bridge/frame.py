@@ -112,14 +112,19 @@ def cycles_note(the_scene, obj):
     of transparent bounces ends black (a grey band of puffs along the horizon)."""
     if the_scene.render.engine != "CYCLES":  # (its settings exist only while it is enabled)
         return None
-    state = surface_state(obj)
-    on = (state.effects or {}).get("spray", (False, ""))[0] if state is not None else False
+    on = last_effects(obj).get("spray", (False,))[0]
     bounces = the_scene.cycles.transparent_max_bounces
     if not on or bounces >= SPRAY_BOUNCES:
         return None
     return (f"Cycles stops rays after {bounces} transparent bounces: the spray renders grey "
             f"toward the horizon; raise Render > Light Paths > Max Bounces > Transparent to "
             f"{2 * SPRAY_BOUNCES}")
+
+
+def last_effects(obj):
+    """{effect: (on, reason)} of the last frame built for ocean `obj` ({} before any)."""
+    state = surface_state(obj)
+    return (state.effects if state is not None else None) or {}
 
 
 def surface_state(obj):

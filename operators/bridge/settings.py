@@ -67,8 +67,7 @@ def _mode(effect, description):
 
 def _active_effects(self):
     """Bit set of the effects on for the last built frame (read-only `active_effects`)."""
-    state = frame.surface_state(self.id_data)
-    decisions = (state.effects if state is not None else None) or {}
+    decisions = frame.last_effects(self.id_data)
     return sum(1 << i for i, e in enumerate(effects.EFFECTS) if decisions.get(e, (False,))[0])
 
 
