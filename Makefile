@@ -7,7 +7,7 @@ PY = $(VENV)/bin/python
 PY45 = $(VENV45)/bin/python
 PIP = -m pip install --quiet --disable-pip-version-check
 
-.PHONY: test test-5.2 test-fast test-core test-blender test-blender-4.5 lint package demo bench stress \
+.PHONY: test test-5.2 test-4.5 test-fast test-core test-blender test-blender-4.5 lint package demo bench stress \
 	clean
 
 define make_venv
@@ -42,15 +42,21 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	touch $@
 
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-# On CI's two cores: the 4.5 Blender tests beside the core's and 5.2's (those that render no
-# shots first, then the shots). Each part's output is printed whole when it ends.
+# On CI's two cores, two lanes of about equal length side by side: 5.2's (the core's tests but
+# the slow ones, the Blender tests that render no shots, then the shots) and 4.5's (its Blender
+# tests, then the core's slow ones: the stability suite, on 4.5's numpy<2). Each lane's output
+# is printed whole when it ends.
 test: lint
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-blender-4.5 test-5.2
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-4.5 test-5.2
 
 test-5.2: $(VENV)/.blender
-	$(PY) -m pytest tests/core
+	$(PY) -m pytest -m "not slow" tests/core
 	$(PY) -m pytest -m "not slow" tests/blender
 	$(PY) -m pytest -m slow tests/blender
+
+test-4.5: $(VENV45)/.blender
+	$(PY45) -m pytest tests/blender
+	$(PY45) -m pytest -m slow tests/core
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
 # grid, the tiling check) on 5.2: about four minutes on a 2-core machine, under three of them the

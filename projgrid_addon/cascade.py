@@ -260,9 +260,7 @@ class Cascade:
         """|h0(k)|^2 + |h0(-k)|^2 over the half lattice the transforms use, each column but
         the first and the last counted twice: it stands for its mirror too."""
         power = self.power()[:, :self.texels // 2 + 1]
-        twice = np.full(power.shape[1], 2.0)
-        twice[0] = twice[-1] = 1.0
-        return power * twice
+        return power * np.r_[1.0, np.full(power.shape[1] - 2, 2.0), 1.0]
 
     def _factor(self, field, lam):
         """The multiplier taking h(k) to the spectrum of `field` (index into FIELDS),
@@ -345,36 +343,38 @@ def layout(state, seed, texels_base, wind_span=None):
     energy is the state's (under a keyed wind, interpolated: Cascade); the swell's core (the
     last group) is band-limited along its headings. A band longer than the slope layer's
     that needs several tiles (most of the sea's height) is laid out as its halves (`pieces`),
-    a group each: about as many tiles, but where the grid's spacing drops the short half (a
-    few hundred metres from a low camera, the rows tens of metres deep) the long half stays,
-    so the far sea keeps its height to twice the distance."""
-    cascades, groups = [], []
-    swell = has_swell_core(state)
-    shares = layout_shares(state, wind_span)
-    halves = layout_shares(state, wind_span, halves=True)
+    a group each, the band's tiles shared so the busiest holds the least: where the grid
+    drops the short half (a few hundred metres from a low camera) the long half stays, so the
+    far sea keeps its height to twice the distance, at no more tiles."""
+    cascades, groups, swell = [], [], has_swell_core(state)
+    shares, halves = (layout_shares(state, wind_span, halves) for halves in (False, True))
     for b, ((shortest, longest), share) in enumerate(zip(
             [*bands(), swell_core_waves(state)], shares, strict=True)):
         if share < 1e-7:
             continue
         core = b == BANDS
-        split = not core and b < LAYER_FIRST and _count(share) > 1
-        for half, (lo, hi) in enumerate(pieces(shortest, longest) if split
-                                        else [(shortest, longest)]):
-            group = _group(state, seed, texels_base, wind_span, swell, b, lo, hi,
-                           halves[2 * b + half] if split else share, split and half == 0)
+        count = _count(share)
+        parts = [((shortest, longest), share, count, False)]
+        if not core and b < LAYER_FIRST and count > 1:  # split, the busiest tile the least
+            two, n = halves[2 * b:2 * b + 2], np.arange(1, count)
+            long = int(n[np.argmin(np.maximum(two[0] / n, two[1] / (count - n)))])
+            parts = zip(pieces(shortest, longest), two, (long, count - long), (True, False),
+                        strict=True)
+        for (lo, hi), part, n, long_half in parts:
+            group = _group(state, seed, texels_base, wind_span, swell, b, lo, hi, part, n,
+                           long_half)
             if group is not None:
                 groups.append((*group[0], range(len(cascades), len(cascades) + len(group[1]))))
                 cascades.extend(group[1])
     return cascades, groups
 
 
-def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, share,
+def _group(state, seed, texels_base, wind_span, swell, b, shortest, longest, share, count,
            long_half):
     """((band limit, heading), tiles) of band b's waves from `shortest` to `longest` (m) with
-    `share` of the variance (`long_half`: they are the band's long half), or None if no tile
-    holds a wave."""
+    `share` of the variance over `count` tiles (`long_half`: they are the band's long half),
+    or None if no tile holds a wave."""
     core = b == BANDS
-    count = _count(share)
     # A band holding much of the sea gets larger tiles: fewer repeats in view.
     texels = texels_base * (BIG if share > SHARE_PER_TILE else 1)
     base = texels * shortest / SAMPLES_PER_WAVE  # the shortest wave's samples

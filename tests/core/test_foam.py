@@ -57,14 +57,14 @@ def test_the_foam_calibration_sees_the_folding_as_a_mesh_does():
 
 @pytest.mark.parametrize("u", [6.0, 10.0, 15.0, 20.0, 25.0])
 def test_foam_covers_the_whitecap_share_and_stays_steady(u):
-    """The mean foam over the sea is Monahan's whitecap coverage within a factor of 1.5, at
-    full detail, with a band whole and with a band fading in (most vertices hold one in part),
-    and changes by less than 30 % in a second (the median over three seas). One sea's change is
-    itself uncertain: the calibration's 16384 points hold some 80 folds at 10 m/s; over seeds
-    6-23 at 6 m/s it had a median of 10-18 % and reached 36 % (its 90th percentile 23-30 %).
-    """
+    """The mean foam over the sea is Monahan's whitecap coverage (check_whitecap_share_and_
+    steadiness), at full detail, with a band whole and with a band fading in (most vertices
+    hold one in part), and changes by less than 30 % in a second (the median over three seas,
+    five below 10 m/s). One sea's change is itself uncertain: the calibration's 16384 points
+    hold some 80 folds at 10 m/s, fewer below; over seeds 4-23 at 6 m/s it had a median of
+    14 %, a 90th percentile of 26-31 % and reached 36-56 %."""
     sources = [SpectralField(SeaState(wind_speed=u), choppiness=0.8, seed=seed)
-               for seed in range(7, 10)]
+               for seed in range(7, 12 if u < 10.0 else 10)]
     fading = sorted(set(sources[0].levels))[len(set(sources[0].levels)) // 2]  # fades in to + 1
     check_whitecap_share_and_steadiness(sources, u, (fading + 1.0, fading + 0.6))
 
@@ -74,12 +74,13 @@ FOAM_POINTS = np.random.default_rng(3).uniform(-3e3, 3e3, (2, 60_000))
 
 def check_whitecap_share_and_steadiness(sources, u, levels):
     """The mean foam of each of `sources` over FOAM_POINTS, at full detail and at each band
-    limit of `levels`, is Monahan's coverage for the wind `u` within a factor of 1.5 at 10 s
-    and 11 s, and each changes by less than 30 % from the one to the other (the median over
-    the sources)."""
+    limit of `levels`, at 10 s and 11 s, is Monahan's coverage for the wind `u` within the
+    issue's factor of 2 (one sea's share is a sample: at 6 m/s seeds 4-13 gave 0.63-1.21 of
+    it), their median within a factor of 1.5, and each changes by less than 30 % from the
+    one time to the other (the median over the sources)."""
     want = effects.whitecap_coverage(u)
     lods = (None, *(np.full(FOAM_POINTS.shape[1:], level) for level in levels))
-    changes = []
+    shares, changes = [], []
     for source in sources:
         means = []
         for t in (10.0, 11.0):
@@ -87,9 +88,12 @@ def check_whitecap_share_and_steadiness(sources, u, levels):
             for lod in lods:
                 cover = foam.whitecaps(foam.crest_cue(source, FOAM_POINTS, t, lod), lod,
                                        calibration)
-                assert want / 1.5 < cover.mean() < want * 1.5, (lod if lod is None else lod[0])
                 means.append(cover.mean())
+        shares.append(np.divide(means, want))
         changes.append(np.abs(np.divide(means[len(lods):], means[:len(lods)]) - 1.0))
+    assert ((0.5 < np.min(shares, axis=0)) & (np.max(shares, axis=0) < 2.0)).all(), shares
+    assert ((1 / 1.5 < np.median(shares, axis=0)) & (np.median(shares, axis=0) < 1.5)).all(), (
+        shares)
     assert (np.median(changes, axis=0) < 0.3).all(), changes
 
 
