@@ -354,9 +354,9 @@ def _storm(report):
                 f"{r['ratio']:.2f}×", r["ratio"] <= 1.3,
                 f"**A gale's frame, camera {camera}.** The grid's columns and rows follow the "
                 "screen (waves to the horizon), so more vertices are near and detailed, each "
-                "with more bands to sample (the main bands' halves add two tiles and ten "
-                "calibrated levels); the spray adds its puffs; the residual foam's "
-                "past samples are kept " + (
+                "with more bands to sample (the main bands' halves, their foam calibrated at "
+                "ten more levels); the spray adds its puffs (with / without below); the residual "
+                "foam's past samples are kept " + (
                     "on canonical cameras' grids (past_grid.py; the camera dollies 2 m a frame "
                     "along its heading), made anew at each 8 m step of their lattice."
                     if camera == "moving" else "on its grid: a frame makes the newest.")))
