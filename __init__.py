@@ -8,9 +8,9 @@ package of the repository root, and the core's tests must run without bpy.
 def _modules():
     """Registered in this order, unregistered in exact reverse."""
     from . import operators, panels
-    from .operators.bridge import handlers, settings
+    from .operators.bridge import float_settings, handlers, settings
 
-    return (settings, operators, panels, handlers)
+    return (settings, float_settings, operators, panels, handlers)
 
 
 def register():

@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import effects, foam, memory, optics, shading, spray
+from . import effects, floating, foam, memory, optics, shading, spray
 from .camera import Camera
 from .height_field import HeightField
 from .projected_grid import build_grid
@@ -102,6 +102,7 @@ class FrameInputs:
     # the camera moves along the sea alone, its orientation, height and lens held (a dolly,
     # a flyover): the residual foam's past on canonical cameras' grids (past_grid.py)
     dolly: bool = False
+    floats: tuple = ()  # floating.Float: the objects riding this ocean, as the scene places them
 
 
 @dataclass(eq=False)
@@ -129,6 +130,7 @@ class FramePlan:
     spray: tuple | None  # (positions, radii, opacities) of the spray's puffs (spray.spray)
     warning: str | None
     ms: float  # the time planning took
+    floats: tuple = ()  # (key, world matrix) of each float's follower (floating.pose)
 
 
 def plan(inputs):
@@ -174,7 +176,8 @@ def plan(inputs):
         layer=layer, absorption=optics.absorption(s.clarity), light=light,
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
         foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None, spray=puffs,
-        warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3)
+        warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3,
+        floats=tuple((f.key, floating.pose(hf, t, inputs.world, f)) for f in inputs.floats))
 
 
 def gust_drift(s, per_frame, frame, samples):

@@ -11,7 +11,7 @@ import numpy as np
 from ...projgrid_addon.effects import EFFECTS
 from ...projgrid_addon.optics import GODRAY_TILE_TEXELS
 from ...shaders.nodes import assign
-from . import ahead, bake_record, companions, material_inputs, mesh, scene
+from . import ahead, bake_record, companions, floats, material_inputs, mesh, scene
 from .state import RUNTIME
 
 
@@ -77,6 +77,7 @@ def frame(read, plan, refusal=None):
                                 plan.on, in_use, inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))
     companions.write_spray(surface, plan.spray, float(inputs.world[2, 3]))
+    floats.apply(plan.floats)
     state.ms = plan.ms + (time.perf_counter() - start) * 1e3  # planned and written
     return None
 

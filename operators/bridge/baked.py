@@ -10,7 +10,7 @@ from ...projgrid_addon import optics, water_model
 from ...shaders import materials as shader_materials
 from ...shaders import water
 from ...shaders.nodes import TAG
-from . import material_inputs, scene, shot
+from . import floats, material_inputs, scene, shot
 from .state import RUNTIME
 
 MODIFIER = "Projected Grid Bake"
@@ -50,11 +50,12 @@ def is_copy(obj):
 
 
 def baked_companions(obj):
-    """Our companions of ocean `obj` (companions.py) a bake keys; none for a duplicate
-    (`is_copy`)."""
+    """Our companions of ocean `obj` (companions.py) a bake keys, and the followers of the
+    objects floating on it (floats.py: so a farm running no scripts floats them); none for a
+    duplicate (`is_copy`)."""
     if is_copy(obj):
         return []
-    out = [getattr(obj.projgrid, prop) for prop in scene.COMPANIONS]
+    out = [getattr(obj.projgrid, prop) for prop in scene.COMPANIONS] + floats.followers(obj)
     return [c for c in out if c is not None and scene.owns(c) and scene.local(c)]
 
 

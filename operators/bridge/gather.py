@@ -9,7 +9,7 @@ import numpy as np
 
 from ...projgrid_addon import Camera, foam, frame_plan, shading
 from ...shaders import sky
-from . import bake_record, companions, material_inputs, objects, scene, shot
+from . import bake_record, companions, floats, material_inputs, objects, scene, shot
 from .state import RUNTIME
 
 
@@ -109,9 +109,10 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     t = shot.scene_time(the_scene)
     size = shot.render_size(the_scene)
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
+    riding = floats.gather(app, the_scene, depsgraph)
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
-           sky_overcast, facts.key(), dolly)
+           sky_overcast, facts.key(), dolly, riding)
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
@@ -127,7 +128,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
         ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(
-            the_scene)) if ahead else (), dolly=dolly)
+            the_scene)) if ahead else (), dolly=dolly, floats=riding)
     return Gathered(**base, inputs=inputs, key=key)
 
 

@@ -125,6 +125,7 @@ class SceneCache:
     generation: int = 0  # how many times it was made: companions follow collections anew
     counts: tuple = ()  # objects, collections and scenes in the file when it was made
     oceans: list = field(default_factory=list)
+    floats: list = field(default_factory=list)  # mesh objects riding an ocean (floats.py)
     appearances: list = field(default_factory=list)
     sun: object = None
     boxes: object = None  # objects.ObjectBoxes, made on first use
@@ -194,7 +195,7 @@ def valid_cache(scene):
     cache = _file_cache(scene)
     if cache.valid:
         try:
-            for obj in cache.oceans:
+            for obj in (*cache.oceans, *cache.floats):
                 obj.name_full  # noqa: B018 (raises ReferenceError once deleted)
             for app in cache.appearances:
                 for instancer, _ in app.chain:
@@ -202,7 +203,9 @@ def valid_cache(scene):
         except ReferenceError:
             cache.valid = False
     if not cache.valid:
-        cache.oceans = [o for o in bpy.data.objects if o.type == "MESH" and o.projgrid.is_ocean]
+        meshes = [o for o in bpy.data.objects if o.type == "MESH"]
+        cache.oceans = [o for o in meshes if o.projgrid.is_ocean]
+        cache.floats = [o for o in meshes if o.projgrid_float.ocean is not None]
         cache.appearances = _appearances(scene, cache.oceans)
         cache.sun, cache.boxes, cache.valid = None, None, True
         cache.generation += 1

@@ -1,0 +1,58 @@
+"""`obj.projgrid_float`: how a mesh object of the user's floats on an ocean (floats.py), all
+animatable and overridable, registered on Object."""
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty, PointerProperty
+
+from ...projgrid_addon import floating
+from . import frame, scene
+from .settings import OVERRIDABLE
+
+
+def _changed(self, context):
+    """A float's setting changed: its ocean's frame again."""
+    for ocean in scene.ocean_objects(context.scene):
+        frame.update_ocean(ocean, context.scene, context.evaluated_depsgraph_get())
+
+
+def _is_ocean(self, obj):
+    return obj.type == "MESH" and obj.projgrid.is_ocean
+
+
+class FloatSettings(bpy.types.PropertyGroup):
+    ocean: PointerProperty(type=bpy.types.Object, name="Ocean", poll=_is_ocean,
+                           override=OVERRIDABLE, update=_changed,
+                           description="The ocean this object rides (none: it does not float)")
+    follower: PointerProperty(type=bpy.types.Object, options={"HIDDEN"}, override=OVERRIDABLE,
+                              description="Our empty that carries the object onto the waves")
+    sits: EnumProperty(
+        name="Sits", default="DENSITY", update=_changed, override=OVERRIDABLE,
+        description="How deep the object sits in the water",
+        items=[("DENSITY", "By Density", "From its density and volume (Archimedes)"),
+               ("DRAFT", "By Draft", "At a draft set by hand")])
+    density: FloatProperty(
+        name="Density", default=500.0, min=1.0, soft_max=floating.RHO_WATER * 1.5, max=2e4,
+        update=_changed, override=OVERRIDABLE,
+        description="kg/m³: its mass over its volume (sea water 1025; denser ones sit awash)")
+    draft: FloatProperty(name="Draft", default=0.5, min=0.0, soft_max=20.0, unit="LENGTH",
+                         update=_changed, override=OVERRIDABLE,
+                         description="How far its lowest point sits under the water")
+    response: FloatProperty(
+        name="Response", default=1.0, min=0.0, soft_max=2.0, max=5.0, update=_changed,
+        override=OVERRIDABLE,
+        description="How far it follows the water's tilt (pitch and roll): 1 as the waves "
+                    "over its footprint, 0 level")
+
+
+classes = (FloatSettings,)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
+
+
+def register():
+    _register_classes()
+    bpy.types.Object.projgrid_float = PointerProperty(type=FloatSettings, override=OVERRIDABLE)
+
+
+def unregister():
+    del bpy.types.Object.projgrid_float
+    _unregister_classes()

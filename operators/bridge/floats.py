@@ -1,0 +1,141 @@
+"""Floating objects in the Blender layer. A float is a mesh object of the user's with our Child
+Of constraint (CONSTRAINT) to our follower, an empty whose matrix carries the object from where
+its own animation places it onto the waves (floating.pose): its keyframes stay its own and
+editable, and each frame writes only our follower. Gathered per ocean (`gather`: plain
+floating.Float), planned with the ocean's frame, written by `apply`."""
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+from ...projgrid_addon import floating
+from ...shaders.nodes import TAG
+from . import scene
+
+CONSTRAINT = "Ocean Float"
+
+
+def refusal(obj):
+    """Why `obj` cannot be made to float (None: it can)."""
+    if obj.type != "MESH":
+        return "not a mesh"
+    if obj.projgrid.is_ocean or obj.get(TAG):
+        return "an ocean's or ours"
+    if obj.library is not None:
+        return "linked from a library (make it a library override)"
+    if obj.parent is not None:
+        return "it has a parent (float the top of the hierarchy)"
+    if floating_on(obj) is not None:
+        return "it floats already"
+    return None
+
+
+def followers(ocean):
+    """Our followers of the objects floating on `ocean`."""
+    return [o.projgrid_float.follower for o in bpy.data.objects
+            if o.type == "MESH" and o.projgrid_float.ocean == ocean
+            and o.projgrid_float.follower is not None]
+
+
+def floating_on(obj):
+    """The ocean `obj` floats on, or None."""
+    settings = getattr(obj, "projgrid_float", None)
+    return None if settings is None else settings.ocean
+
+
+def float_object(obj, ocean, the_scene):
+    """Make `obj` ride `ocean`: our follower (an empty, hidden, in the scene's collection)
+    and our constraint on `obj` to it, added last."""
+    follower = bpy.data.objects.new(f"{obj.name} Float", None)
+    follower[TAG] = True
+    follower.empty_display_size = 0.5
+    follower.hide_viewport = follower.hide_render = True
+    the_scene.collection.objects.link(follower)
+    constraint = obj.constraints.new("CHILD_OF")
+    constraint.name = CONSTRAINT
+    constraint.target = follower
+    constraint.inverse_matrix = Matrix.Identity(4)
+    obj.projgrid_float.follower = follower
+    obj.projgrid_float.ocean = ocean
+
+
+def unfloat_object(obj):
+    """Undo `float_object`: our constraint and our follower removed, the object as it was."""
+    settings = obj.projgrid_float
+    follower = settings.follower
+    for constraint in [c for c in obj.constraints
+                       if c.type == "CHILD_OF" and c.name.startswith(CONSTRAINT)
+                       and (c.target is None or c.target == follower)]:
+        obj.constraints.remove(constraint)
+    settings.ocean = None
+    settings.follower = None
+    if follower is not None and scene.owns(follower) and follower.users <= 1:
+        bpy.data.objects.remove(follower)
+
+
+def gather(app, the_scene, depsgraph):
+    """The floats riding the ocean of appearance `app` (its own placement only), as
+    `the_scene` places them at this frame: floating.Float each (nothing written)."""
+    if app.chain:
+        return ()
+    out = []
+    for obj in scene.valid_cache(the_scene).floats:
+        settings = obj.projgrid_float
+        if settings.ocean != app.ocean or obj.parent is not None or not follows(obj):
+            continue
+        ev = obj.evaluated_get(depsgraph)
+        basis = np.array(ev.matrix_basis, dtype=np.float64)  # its own, before constraints
+        corners = np.array([tuple(c) for c in ev.bound_box], dtype=np.float64)
+        lo, hi = corners.min(axis=0), corners.max(axis=0)
+        world = corners @ basis[:3, :3].T + basis[:3, 3]
+        length = (hi[0] - lo[0]) * float(np.linalg.norm(basis[:3, 0]))
+        beam = (hi[1] - lo[1]) * float(np.linalg.norm(basis[:3, 1]))
+        centre = basis[:3, :3] @ (0.5 * (lo + hi)) + basis[:3, 3]
+        s = ev.projgrid_float
+        if s.sits == "DRAFT":
+            draft = float(s.draft)
+        else:
+            volume = volume_of(obj.data) * abs(float(np.linalg.det(basis[:3, :3])))
+            draft = floating.draft(float(s.density), volume, max(length * beam, 1e-6))
+        out.append(floating.Float(
+            key=settings.follower.name, origin=tuple(basis[:3, 3]), centre=tuple(centre[:2]),
+            heading=float(np.arctan2(basis[1, 0], basis[0, 0])), length=length, beam=beam,
+            keel=float(world[:, 2].min()), draft=draft, response=float(s.response)))
+    return tuple(out)
+
+
+def follows(obj):
+    """Whether `obj` has our constraint to its follower, on."""
+    follower = obj.projgrid_float.follower
+    return follower is not None and any(
+        c.type == "CHILD_OF" and c.target == follower and not c.mute for c in obj.constraints)
+
+
+_VOLUMES = {}  # (mesh session_uid, vertices, triangles) -> volume
+
+
+def volume_of(mesh):
+    """The volume (m^3, local units) a closed mesh encloses: the sum over its triangles of
+    the signed tetrahedra to the origin (kept per mesh and size)."""
+    key = (mesh.session_uid, len(mesh.vertices), len(mesh.loop_triangles))
+    if key not in _VOLUMES:
+        co = np.empty(len(mesh.vertices) * 3, np.float64)
+        mesh.vertices.foreach_get("co", co)
+        tris = np.empty(len(mesh.loop_triangles) * 3, np.int64)
+        mesh.loop_triangles.foreach_get("vertices", tris)
+        v = co.reshape(-1, 3)[tris.reshape(-1, 3)]
+        _VOLUMES[key] = abs(float(np.einsum("ij,ij->i", v[:, 0],
+                                            np.cross(v[:, 1], v[:, 2])).sum()) / 6.0)
+    return _VOLUMES[key]
+
+
+def apply(poses):
+    """Each follower (ours) set to its planned world matrix ((key, 4 x 4) pairs)."""
+    for key, matrix in poses:
+        follower = bpy.data.objects.get(key)
+        if follower is None or not scene.owns(follower) or follower.library is not None:
+            continue
+        new = Matrix(matrix.tolist())
+        if any(abs(a - b) > 1e-6 for r, q in zip(follower.matrix_world, new, strict=True)
+               for a, b in zip(r, q, strict=True)):
+            follower.matrix_world = new

@@ -1,0 +1,133 @@
+"""Floating objects: how a hull rides the sea, a pure function of the sea, the time and where
+the hull is (its course is the scene's own animation).
+
+A rigid hull on long waves follows the water it displaces (the Froude-Krylov approximation:
+the wave's pressure integrated over the hull, no diffraction or radiation). Over a waterline
+footprint of length L its heave follows the surface's mean there and its pitch and roll the
+plane fitted to it: for a long-crested wave of amplitude a and wavenumber k along L, with
+u = k L / 2,
+
+    heave = a sin(u) / u,        slope = a k 3 (sin(u) - u cos(u)) / u^3,
+
+so waves much shorter than the hull average out (a 100 m hull barely heaves in a 10 m chop)
+and waves much longer are followed (a 1 m buoy rides them: both tend to a and a k). The
+footprint is sampled at the midpoints of SAMPLES x SAMPLES cells (the midpoint rule: up to 2.5
+wavelengths long its heave and slope are within 2 % of the formulas'), with the waves shorter
+than a few cells left out (the band limit, band_limit.py), which over a footprint average to
+nearly nothing. The surface is the displaced one the mesh shows: a choppy sea carries the
+water at p to p + D(p), so the height over a world point x is h(p) where p + D(p) = x
+(`water_under`).
+
+How deep the hull sits (Archimedes): a hull of volume V and density rho over a waterline
+area A sinks until it displaces its mass, V rho / RHO_WATER, to a draft of that over A (a
+prism's; a boat's finer hull sits a little deeper)."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .band_limit import lod_for_spacing
+
+SAMPLES = 9  # midpoints each way over the footprint
+RHO_WATER = 1025.0  # kg/m^3: sea water
+CHOP_ITERATIONS = 4  # fixed-point steps finding the water under a point on a choppy sea
+
+
+def footprint(centre, heading, length, beam, samples=SAMPLES):
+    """(2, samples^2) world (x, y) of the midpoints of samples x samples cells over the
+    waterline rectangle `length` along `heading` (rad from +x) and `beam` across, about
+    `centre` (x, y); and the points' (along, across) offsets from the centre (2, samples^2)."""
+    cells = (np.arange(samples) + 0.5) / samples - 0.5
+    along, across = (a.ravel() for a in np.meshgrid(cells * length, cells * beam))
+    c, s = np.cos(heading), np.sin(heading)
+    xy = np.stack([centre[0] + c * along - s * across, centre[1] + s * along + c * across])
+    return xy, np.stack([along, across])
+
+
+def water_under(source, xy, t, lod=None):
+    """(p, h): where the water over world points xy (2, ...) came from and the displaced
+    surface's height there at time t: p + D(p) = xy, found by fixed-point steps
+    p <- xy - D(p) (they converge where the surface does not fold, its Jacobian positive)."""
+    p = np.asarray(xy, dtype=np.float64)
+    h, d = source.displacement(p, t, lod)
+    for _ in range(CHOP_ITERATIONS if d is not None else 0):
+        p = xy - d
+        h, d = source.displacement(p, t, lod)
+    return p, h
+
+
+def ride(source, t, centre, heading, length, beam, samples=SAMPLES):
+    """(heave, slopes): the mean height of the displaced surface over the footprint (m) and
+    the slopes (along, across the heading) of the plane fitted to it by least squares."""
+    length, beam = max(float(length), 1e-3), max(float(beam), 1e-3)
+    xy, offsets = footprint(centre, heading, length, beam, samples)
+    spacing = max(length, beam) / samples
+    lod = np.full(xy.shape[1:], lod_for_spacing(source.wave_scale, spacing))
+    _, h = water_under(source, xy, t, lod)
+    # The offsets are centred and the lattice symmetric: the fit's terms are independent.
+    return float(h.mean()), tuple(float((o @ h) / (o @ o)) for o in offsets)
+
+
+def tilt(slopes, heading, response=1.0):
+    """The world rotation (3 x 3) turning a hull level on calm water onto the plane of
+    `slopes` (along, across its `heading`), its angle scaled by `response`: about the
+    horizontal axis z x n, n the plane's upward normal."""
+    along, across = slopes
+    c, s = np.cos(heading), np.sin(heading)
+    gx, gy = c * along - s * across, s * along + c * across  # the plane's world gradient
+    n = np.array([-gx, -gy, 1.0]) / np.sqrt(1.0 + gx * gx + gy * gy)
+    axis = np.array([-n[1], n[0], 0.0])  # z x n
+    sin = np.linalg.norm(axis)
+    if sin < 1e-12:
+        return np.eye(3)
+    axis /= sin
+    angle = response * np.arctan2(sin, n[2])
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]],
+                  [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * (k @ k)
+
+
+def draft(density, volume, area):
+    """How deep (m) a hull of `density` (kg/m^3) and `volume` (m^3) over a waterline `area`
+    (m^2) sits: the depth of the prism that displaces its mass (never more than it holds,
+    volume / area: a hull denser than water sits awash)."""
+    if density < 0.0 or volume < 0.0:
+        raise ValueError(f"density and volume must be at least 0, got {density}, {volume}")
+    if area <= 0.0:
+        raise ValueError(f"area: the waterline footprint must be larger than 0, got {area}")
+    return min(float(density) / RHO_WATER, 1.0) * float(volume) / float(area)
+
+
+@dataclass(frozen=True)
+class Float:
+    """One floating object as the scene places it (its own animation, before the float): its
+    `origin` (x, y, z), the waterline footprint's `centre` (x, y), `heading` (rad from +x),
+    `length` and `beam` (m), its lowest point's height `keel` (m), how deep it sits (`draft`,
+    m) and how far it follows the water's tilt (`response`). All world."""
+
+    key: str
+    origin: tuple
+    centre: tuple
+    heading: float
+    length: float
+    beam: float
+    keel: float
+    draft: float
+    response: float
+
+
+def pose(source, t, world, f):
+    """The world matrix (4 x 4) that carries float `f` from where the scene places it onto the
+    sea of the ocean at `world` (its matrix: the sea lies in its local x, y, at its level) at
+    time t: tilted about its origin onto the plane fitted over its footprint (`ride`,
+    `tilt`), lifted so its keel sits `draft` under the water's mean there."""
+    to_sea = np.linalg.inv(world)
+    centre = (to_sea @ np.array([f.centre[0], f.centre[1], world[2, 3], 1.0]))[:2]
+    yaw = np.arctan2(world[1, 0], world[0, 0])
+    heave, slopes = ride(source, t, centre, f.heading - yaw, f.length, f.beam)
+    lift = float(world[2, 3]) + heave - f.draft - f.keel
+    out = np.eye(4)
+    out[:3, :3] = tilt(slopes, f.heading, f.response)
+    origin = np.asarray(f.origin, dtype=np.float64)
+    out[:3, 3] = origin + np.array([0.0, 0.0, lift]) - out[:3, :3] @ origin
+    return out

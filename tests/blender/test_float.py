@@ -1,0 +1,138 @@
+"""Floating objects (issue 37): Float Selected makes a mesh ride the ocean through our Child Of
+constraint to our follower, the object's own keyframes untouched; Unfloat Selected undoes it
+exactly; the pose is the core's (floating.pose) of the sea the frame built."""
+
+import bpy
+import numpy as np
+import pytest
+
+from .helpers import spectral_sea
+
+
+@pytest.fixture
+def boat():
+    """A 4 x 2 x 1 m box keyframed along +X (its course) near the camera, over a force 5
+    spectral sea; only it selected and active."""
+    ocean = spectral_sea()
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 25.0, 0.3))
+    obj = bpy.context.active_object
+    obj.scale = (4.0, 2.0, 1.0)
+    obj.rotation_euler.z = 0.4
+    obj.keyframe_insert("location", frame=1)
+    obj.location.x = 12.0
+    obj.keyframe_insert("location", frame=48)
+    for o in bpy.context.selected_objects:
+        o.select_set(o == obj)
+    return ocean, obj
+
+
+def expected(bridge, extension, ocean, obj):
+    """The core's pose for `obj` on this frame's sea, and the object's own placement."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    scene = bpy.context.scene
+    app = bridge.scene.appearances(scene, only=ocean)[0]
+    (riding,) = bridge.floats.gather(app, scene, depsgraph)
+    source = bridge.scene.height_field(ocean.evaluated_get(depsgraph).projgrid)
+    world = np.array(ocean.matrix_world, dtype=np.float64)
+    pose = extension.projgrid_addon.floating.pose(
+        source, bridge.shot.scene_time(scene), world, riding)
+    return pose @ np.array(obj.matrix_basis, dtype=np.float64), riding
+
+
+def test_a_float_rides_the_waves_and_keeps_its_keyframes(boat, bridge, extension):
+    """Each frame the boat is where the core's pose puts it (within 1e-4 m), its keel the
+    density's draft (500 kg/m^3: 0.49 of its 1 m depth) under the sea's mean over its
+    footprint, it heaves and tilts from frame to frame, and its keyframes and own location
+    are as the user set them; the panel says what it rides."""
+    ocean, obj = boat
+    frames = (2, 9, 17, 30)
+    own = []
+    for frame in frames:
+        bpy.context.scene.frame_set(frame)
+        own.append(tuple(obj.location))
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    lifts, tilts = [], []
+    for frame, placed in zip(frames, own, strict=True):
+        bpy.context.scene.frame_set(frame)
+        want, riding = expected(bridge, extension, ocean, obj)
+        assert np.array(obj.matrix_world) == pytest.approx(want, abs=1e-4)
+        assert riding.draft == pytest.approx(500.0 / 1025.0 * 1.0, rel=1e-3)
+        lifts.append(want[2, 3])
+        tilts.append(np.degrees(np.arccos(want[2, 2])))
+        assert tuple(obj.location) == placed  # its own course, as keyed
+    assert np.std(lifts) > 0.02 and max(tilts) > 0.2, (lifts, tilts)
+    lines = extension.panels.float_panel.float_lines(obj)
+    assert lines == [("MOD_OCEAN", f"Rides {ocean.name!r}")]
+
+
+def test_unfloat_puts_it_back_exactly(boat, bridge):
+    """Unfloat Selected: the object where its own animation places it (matrix as before the
+    float), our constraint and follower gone, the ocean's frame untouched otherwise."""
+    ocean, obj = boat
+    bpy.context.scene.frame_set(9)
+    before = np.array(obj.matrix_world)
+    constraints = len(obj.constraints)
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    bpy.context.scene.frame_set(9)
+    assert np.abs(np.array(obj.matrix_world) - before).max() > 1e-3
+    assert bpy.ops.projgrid.unfloat_selected() == {"FINISHED"}
+    bpy.context.scene.frame_set(9)
+    assert np.array(obj.matrix_world) == pytest.approx(before, abs=1e-6)
+    assert len(obj.constraints) == constraints and obj.projgrid_float.ocean is None
+    assert not [o for o in bpy.data.objects if o.name.startswith(obj.name + " Float")]
+
+
+def test_what_cannot_float_is_refused_with_its_reason(boat, bridge, extension):
+    """A parented object, the ocean itself: not floated, and the report and the panel say
+    why; with nothing floatable selected the operator cannot run."""
+    ocean, obj = boat
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(3.0, 30.0, 0.0))
+    child = bpy.context.active_object
+    child.parent = obj
+    for o in bpy.context.selected_objects:
+        o.select_set(o == child)
+    assert not bpy.ops.projgrid.float_selected.poll()
+    assert "it has a parent" in extension.panels.float_panel.float_lines(child)[0][1]
+    obj.select_set(True)
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    assert child.projgrid_float.ocean is None and obj.projgrid_float.ocean == ocean
+
+
+def test_a_float_survives_saving_and_opening(boat, bridge, extension, tmp_path):
+    """Saved and opened again, the object floats on (its constraint and our follower kept, the
+    pose the core's)."""
+    ocean, obj = boat
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    path, names = str(tmp_path / "float.blend"), (ocean.name, obj.name)
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    ocean, obj = (bpy.data.objects[name] for name in names)
+    bpy.context.scene.frame_set(17)
+    want, _ = expected(bridge, extension, ocean, obj)
+    assert np.array(obj.matrix_world) == pytest.approx(want, abs=1e-4)
+
+
+def test_a_bake_keys_the_floats_and_back_to_live_unkeys_them(moving, bridge, tmp_path):
+    """Baking the ocean keys our follower of each float on every baked frame (a farm running
+    no scripts floats them through the constraint): played back, the float is where the live
+    frame put it; Back to Live leaves the follower unkeyed."""
+    scene, ocean = moving
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(0.0, 20.0, 0.0))
+    obj = bpy.context.active_object
+    for o in bpy.context.selected_objects:
+        o.select_set(o == obj)
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    live = {}
+    for frame in (1, 2, 3):
+        scene.frame_set(frame)
+        live[frame] = np.array(obj.matrix_world)
+    assert np.abs(live[1] - live[3]).max() > 1e-3
+    assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
+                                 frame_end=3) == {"FINISHED"}
+    follower = obj.projgrid_float.follower
+    assert bridge.scene.bag_curves(follower)
+    for frame in (3, 1, 2):
+        scene.frame_set(frame)
+        assert np.array(obj.matrix_world) == pytest.approx(live[frame], abs=1e-4)
+    assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
+    assert follower.animation_data is None or not bridge.scene.bag_curves(follower)
