@@ -5,7 +5,7 @@ import bpy
 from bpy.props import EnumProperty, FloatProperty, PointerProperty
 
 from ...projgrid_addon import floating
-from . import frame, scene
+from . import frame, scene, settings
 from .settings import OVERRIDABLE
 
 
@@ -44,15 +44,4 @@ class FloatSettings(bpy.types.PropertyGroup):
                     "over its footprint, 0 level")
 
 
-classes = (FloatSettings,)
-_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
-
-
-def register():
-    _register_classes()
-    bpy.types.Object.projgrid_float = PointerProperty(type=FloatSettings, override=OVERRIDABLE)
-
-
-def unregister():
-    del bpy.types.Object.projgrid_float
-    _unregister_classes()
+register, unregister = settings.on_objects("projgrid_float", FloatSettings)

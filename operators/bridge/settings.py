@@ -209,16 +209,25 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
 
 
 
-classes = (ProjectedGridSettings,)
-_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
+def on_objects(attr, group):
+    """(register, unregister) of PropertyGroup `group` as every object's `attr`."""
+    def register():
+        bpy.utils.register_class(group)
+        setattr(bpy.types.Object, attr, PointerProperty(type=group, override=OVERRIDABLE))
+
+    def unregister():
+        delattr(bpy.types.Object, attr)
+        bpy.utils.unregister_class(group)
+    return register, unregister
+
+
+_register, _unregister = on_objects("projgrid", ProjectedGridSettings)
 
 
 def register():
-    _register_classes()
-    bpy.types.Object.projgrid = PointerProperty(type=ProjectedGridSettings, override=OVERRIDABLE)
+    _register()
 
 
 def unregister():
-    del bpy.types.Object.projgrid
-    _unregister_classes()
+    _unregister()
     RUNTIME.clear()
