@@ -136,3 +136,15 @@ def test_a_bake_keys_the_floats_and_back_to_live_unkeys_them(moving, bridge, tmp
         assert np.array(obj.matrix_world) == pytest.approx(live[frame], abs=1e-4)
     assert bpy.ops.projgrid.bake_free() == {"FINISHED"}
     assert follower.animation_data is None or not bridge.scene.bag_curves(follower)
+
+
+def test_a_float_moved_by_hand_rides_where_it_is_put(boat, bridge, extension):
+    """Moved in the viewport (no frame change), the float is posed anew at its new place."""
+    ocean, obj = boat
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    bpy.context.scene.frame_set(9)
+    obj.location.y += 7.0
+    bpy.context.view_layer.update()
+    want, riding = expected(bridge, extension, ocean, obj)
+    assert riding.origin[1] == pytest.approx(obj.location.y)
+    assert np.array(obj.matrix_world) == pytest.approx(want, abs=1e-4)
