@@ -40,6 +40,7 @@ class SceneObject:
     in_view: bool
     corners: np.ndarray | None = None  # (8, 3) world box corners in Blender's bound_box order
     mirrored_in_view: bool = False  # its mirror image in the water plane may be in view
+    rides: bool = False  # it floats (floating.py): it rises with the waves, none wash up it
 
 
 @dataclass
@@ -68,7 +69,8 @@ def objects_key(objects):
     """A compact value equal for equal lists of SceneObjects."""
     boxes = [x.corners for x in objects if x.corners is not None]
     return (tuple(x.name for x in objects),
-            np.array([(x.z_min, x.z_max, x.in_view, x.mirrored_in_view) for x in objects],
+            np.array([(x.z_min, x.z_max, x.in_view, x.mirrored_in_view, x.rides)
+                      for x in objects],
                      dtype=np.float64).tobytes(),
             np.asarray(boxes, dtype=np.float64).tobytes())
 
@@ -196,8 +198,9 @@ def submerged(facts):
 
 
 def _crossing(facts):
-    """The objects in view within the waves' reach of the surface, from below it to above."""
-    return [o for o in submerged(facts) if o.z_max > -facts.reach]
+    """The objects in view within the waves' reach of the surface, from below it to above,
+    that stand in the waves (a float rides them: no contact foam)."""
+    return [o for o in submerged(facts) if o.z_max > -facts.reach and not o.rides]
 
 
 def crossing_boxes(facts):

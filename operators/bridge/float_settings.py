@@ -10,7 +10,8 @@ from .settings import OVERRIDABLE
 
 
 def _changed(self, context):
-    """A float's setting changed: its ocean's frame again."""
+    """A float's setting changed: the scene's facts anew (what floats), its ocean's frame."""
+    scene.drop_caches()
     for ocean in scene.ocean_objects(context.scene):
         frame.update_ocean(ocean, context.scene, context.evaluated_depsgraph_get())
 

@@ -46,6 +46,8 @@ class ObjectBoxes:
         self.rows = np.array([i for i, o in enumerate(every) if self._counts(o)], dtype=int)
         self.objects = [every[i] for i in self.rows]
         self.names = [o.name for o in self.objects]
+        self.rides = np.array([o.type == "MESH" and o.projgrid_float.ocean is not None
+                               for o in self.objects], dtype=bool)
         self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
         self.boxes = np.zeros((len(self.objects), 8, 3))
         self.hidden = np.zeros(len(self.objects), dtype=bool)
@@ -150,7 +152,7 @@ class ObjectBoxes:
         z = self.boxes[rows, :, 2] - level
         objects = [effects.SceneObject(self.names[i], float(lo), float(hi),
                                        bool(view.in_view[i]), self.boxes[i],
-                                       bool(view.mirrored[i]))
+                                       bool(view.mirrored[i]), bool(self.rides[i]))
                    for i, lo, hi in zip(rows, z.min(axis=1), z.max(axis=1), strict=True)]
         facts = (objects, effects.objects_key(objects))
         view.facts = (view.version, facts)

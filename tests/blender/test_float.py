@@ -43,13 +43,14 @@ def test_a_float_rides_the_waves_and_keeps_its_keyframes(boat, bridge, extension
     """Each frame the boat is where the core's pose puts it (within 1e-4 m), its keel the
     density's draft (500 kg/m^3: 0.49 of its 1 m depth) under the sea's mean over its
     footprint, it heaves and tilts from frame to frame, and its keyframes and own location
-    are as the user set them; the panel says what it rides."""
+    are as the user set them; the panel says what it rides; no contact foam rings it."""
     ocean, obj = boat
     frames = (2, 9, 17, 30)
     own = []
     for frame in frames:
         bpy.context.scene.frame_set(frame)
         own.append(tuple(obj.location))
+    assert bridge.state.RUNTIME.peek(ocean).effects["contact_foam"][0] is True
     assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
     lifts, tilts = [], []
     for frame, placed in zip(frames, own, strict=True):
@@ -63,6 +64,8 @@ def test_a_float_rides_the_waves_and_keeps_its_keyframes(boat, bridge, extension
     assert np.std(lifts) > 0.02 and max(tilts) > 0.2, (lifts, tilts)
     lines = extension.panels.float_panel.float_lines(obj)
     assert lines == [("MOD_OCEAN", f"Rides {ocean.name!r}")]
+    # it rides the waves: none wash up it (standing, the box crossing the surface had them)
+    assert bridge.state.RUNTIME.peek(ocean).effects["contact_foam"][0] is False
 
 
 def test_unfloat_puts_it_back_exactly(boat, bridge):

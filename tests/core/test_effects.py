@@ -1,11 +1,13 @@
 """Effect decisions from scene facts, whitecap coverage, foam, and the box-in-view test."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from projgrid_addon import HeightField, effects, foam, look, optics, sea_states
 from projgrid_addon.camera import Camera, look_at, perspective
-from projgrid_addon.effects import SceneFacts, SceneObject, decide
+from projgrid_addon.effects import SceneFacts, SceneObject, crossing_boxes, decide
 
 
 def facts(**kw):
@@ -64,6 +66,16 @@ def test_objects_decide_by_their_place_against_the_water_and_the_view():
     assert d["local_reflections"][1] == "'Boat', 'Gull' stands above the water, mirrored in view"
     d = decide({}, facts(objects=[boat, rock, gull, hidden], sun_elevation=-3.0))
     assert not d["caustics"][0] and "below the horizon" in d["caustics"][1]
+
+
+def test_a_floating_boat_gets_no_contact_foam_but_is_refracted_and_mirrored():
+    """A float rises and falls with the waves, so none wash up it: no contact foam for it
+    (its foam is its wake's), while the water still refracts and mirrors it."""
+    afloat = SceneObject("Boat", -0.5, 3.0, True, mirrored_in_view=True, rides=True)
+    d = decide({}, facts(objects=[afloat], sun_elevation=40.0))
+    assert on(d) == {"refraction", "caustics", "local_reflections"}
+    assert d["contact_foam"][1].startswith("nothing in view crosses the surface")
+    assert not len(crossing_boxes(facts(objects=[replace(afloat, corners=np.zeros((8, 3)))])))
 
 
 def test_underwater_camera():
