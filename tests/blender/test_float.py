@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 import pytest
 
-from .helpers import spectral_sea
+from .helpers import spectral_sea, workbench
 
 
 @pytest.fixture
@@ -151,3 +151,24 @@ def test_a_float_moved_by_hand_rides_where_it_is_put(boat, bridge, extension):
     want, riding = expected(bridge, extension, ocean, obj)
     assert riding.origin[1] == pytest.approx(obj.location.y)
     assert np.array(obj.matrix_world) == pytest.approx(want, abs=1e-4)
+
+
+def test_a_render_of_a_frame_never_built_floats_it_there(boat, bridge, extension, tmp_path):
+    """As `blender -b -f 40` renders it: opened at frame 10 (our follower saved there), the
+    frame set by the render alone; the rendered frame's float is at the core's pose for 40."""
+    ocean, obj = boat
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    bpy.context.scene.frame_set(10)
+    at_ten = np.array(obj.matrix_world)
+    path, names = str(tmp_path / "float.blend"), (ocean.name, obj.name)
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    ocean, obj = (bpy.data.objects[name] for name in names)
+    scene = bpy.context.scene
+    workbench(scene)
+    scene.frame_current = 40
+    bpy.ops.render.render()
+    rendered = np.array(obj.matrix_world)
+    want, _ = expected(bridge, extension, ocean, obj)
+    assert rendered == pytest.approx(want, abs=1e-4)
+    assert np.abs(rendered - at_ten).max() > 1e-3
