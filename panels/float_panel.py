@@ -3,7 +3,7 @@ ocean: Float Selected, or how it floats and Unfloat Selected."""
 
 import bpy
 
-from ..operators.bridge import floats
+from ..operators.bridge import floats, scene
 
 
 def float_lines(obj):
@@ -29,7 +29,7 @@ class VIEW3D_PT_projgrid_float(bpy.types.Panel):
     @classmethod
     def poll(cls, context):
         obj = context.active_object
-        return obj is not None and obj.type == "MESH" and not obj.projgrid.is_ocean
+        return obj is not None and obj.type == "MESH" and not scene.is_ocean(obj)
 
     def draw(self, context):
         layout, obj = self.layout, context.active_object

@@ -19,6 +19,7 @@ from .band_limit import every_other
 from .camera import Camera, view_matrix
 from .grid_points import grid_points, grid_uv_of
 from .residual_foam import COARSE, Kept, coarse_points, coarse_shapes, past_foam, residual, spread
+from .tiles import bilinear
 
 SNAP = 2.0  # the lattice's step in camera heights above the sea (rounded down to a power of 2)
 # The camera's axes are rounded to ROUND, its height to PLACE m and its sideways place to
@@ -92,7 +93,7 @@ def residual_foam(source, result, xy, lod, time, active, tau, grid, placed=1.0, 
                 break
             key, *_, points, at = canonical
             foam = past_foam(source, points, at, time, active, tau, key, placed, top)
-            total += _bilinear(foam, *found) * np.float32(weight)
+            total += bilinear(foam, *found) * np.float32(weight)
         else:
             full = spread(total, coarse_shapes(xy.shape[1:], COARSE))
             return np.minimum(full, 1.0, out=full)
@@ -204,17 +205,3 @@ def _inside(c, u, v, xy, seen, horizon_row):
     i = np.interp(pu, u, np.arange(len(u)))
     j = np.interp(pv, v, np.arange(len(v)))
     return i, j
-
-
-def _bilinear(values, i, j):
-    """`values` (rows, columns) at fractional column indices i and row indices j."""
-    rows, cols = values.shape
-    i0 = np.minimum(i.astype(np.intp), cols - 2)
-    j0 = np.minimum(j.astype(np.intp), rows - 2)
-    fi = (i - i0).astype(np.float32)
-    fj = (j - j0).astype(np.float32)
-    flat = values.ravel()
-    at = j0 * cols + i0
-    bottom = flat[at] * (1.0 - fi) + flat[at + 1] * fi
-    top = flat[at + cols] * (1.0 - fi) + flat[at + cols + 1] * fi
-    return bottom * (1.0 - fj) + top * fj

@@ -22,6 +22,7 @@ from functools import lru_cache
 import numpy as np
 
 from .spectrum import GRAVITY
+from .tiles import bilinear
 
 WINDOW = 40.0  # s of past path a wake sums
 TAPER = 0.25  # of the window: the oldest emissions fade out over it
@@ -102,7 +103,7 @@ def wake_heights(xy, t, path, draft, length, window=WINDOW):
     for start in range(0, flat.shape[1], CHUNK):  # (points, emissions) a chunk at a time
         p = flat[:, start:start + CHUNK, None]
         d = np.hypot(p[0] - at[0], p[1] - at[1]) / dr
-        out[start:start + CHUNK] = (_bilinear(table, d, age) * weights).sum(axis=-1)
+        out[start:start + CHUNK] = (bilinear(table, d, age) * weights).sum(axis=-1)
     return draft * out.reshape(xy.shape[1:])
 
 
@@ -110,12 +111,3 @@ def _speed(path, t, dt=0.5):
     """The hull's speed (m/s) over the last `dt` s of its path."""
     a, b = path(np.array([t - dt, t])).T
     return float(np.hypot(*(b - a)) / dt)
-
-
-def _bilinear(table, i, j):
-    i = np.clip(i, 0.0, table.shape[1] - 1.001)
-    j = np.clip(j, 0.0, table.shape[0] - 1.001)
-    i0, j0_ = i.astype(np.int64), j.astype(np.int64)
-    fi, fj = i - i0, j - j0_
-    return ((table[j0_, i0] * (1 - fi) + table[j0_, i0 + 1] * fi) * (1 - fj)
-            + (table[j0_ + 1, i0] * (1 - fi) + table[j0_ + 1, i0 + 1] * fi) * fj)

@@ -16,13 +16,10 @@ def _changed(self, context):
         frame.update_ocean(ocean, context.scene, context.evaluated_depsgraph_get())
 
 
-def _is_ocean(self, obj):
-    return obj.type == "MESH" and obj.projgrid.is_ocean
-
-
 class FloatSettings(bpy.types.PropertyGroup):
-    ocean: PointerProperty(type=bpy.types.Object, name="Ocean", poll=_is_ocean,
-                           override=OVERRIDABLE, update=_changed,
+    ocean: PointerProperty(type=bpy.types.Object, name="Ocean",
+                           poll=lambda _, obj: scene.is_ocean(obj), override=OVERRIDABLE,
+                           update=_changed,
                            description="The ocean this object rides (none: it does not float)")
     follower: PointerProperty(type=bpy.types.Object, options={"HIDDEN"}, override=OVERRIDABLE,
                               description="Our empty that carries the object onto the waves")

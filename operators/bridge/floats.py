@@ -19,7 +19,7 @@ def refusal(obj):
     """Why `obj` cannot be made to float (None: it can)."""
     if obj.type != "MESH":
         return "not a mesh"
-    if obj.projgrid.is_ocean or obj.get(TAG):
+    if scene.is_ocean(obj) or obj.get(TAG):
         return "an ocean's or ours"
     if obj.library is not None:
         return "linked from a library (make it a library override)"
@@ -39,8 +39,7 @@ def followers(ocean):
 
 def floating_on(obj):
     """The ocean `obj` floats on, or None."""
-    settings = getattr(obj, "projgrid_float", None)
-    return None if settings is None else settings.ocean
+    return obj.projgrid_float.ocean
 
 
 def float_object(obj, ocean, the_scene):

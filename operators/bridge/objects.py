@@ -46,8 +46,8 @@ class ObjectBoxes:
         self.rows = np.array([i for i, o in enumerate(every) if self._counts(o)], dtype=int)
         self.objects = [every[i] for i in self.rows]
         self.names = [o.name for o in self.objects]
-        self.rides = np.array([o.type == "MESH" and o.projgrid_float.ocean is not None
-                               for o in self.objects], dtype=bool)
+        floating = set(valid_cache(scene).floats)  # they ride the waves (floats.py)
+        self.rides = np.array([o in floating for o in self.objects], dtype=bool)
         self.index = {o.session_uid: i for i, o in enumerate(self.objects)}
         self.boxes = np.zeros((len(self.objects), 8, 3))
         self.hidden = np.zeros(len(self.objects), dtype=bool)

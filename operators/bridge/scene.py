@@ -101,15 +101,19 @@ def channelbag(tree):
     return anim_utils.action_get_channelbag_for_slot(data.action, data.action_slot)
 
 
+def is_ocean(obj):
+    return obj.type == "MESH" and obj.projgrid.is_ocean
+
+
 def ocean_objects(scene):
     """The oceans placed in `scene` itself."""
-    return [obj for obj in scene.objects if obj.type == "MESH" and obj.projgrid.is_ocean]
+    return [obj for obj in scene.objects if is_ocean(obj)]
 
 
 def active_ocean(context):
     """The ocean the user works on: the active object if an ocean, else the scene's first."""
     obj = context.active_object
-    if obj is not None and obj.type == "MESH" and obj.projgrid.is_ocean:
+    if obj is not None and is_ocean(obj):
         return obj
     oceans = ocean_objects(context.scene) if context.scene else []
     return oceans[0] if oceans else None
