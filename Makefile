@@ -42,14 +42,15 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	touch $@
 
 # Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-# On CI's two cores, two lanes of about equal length side by side: 5.2's (the core's tests but
-# the slow ones, the Blender tests that render no shots, then the shots) and 4.5's (its Blender
-# tests, then the core's slow ones: the stability suite, on 4.5's numpy<2). Each lane's output
-# is printed whole when it ends.
-test: lint
+# On CI's two cores, two lanes of about equal length side by side, each installing its own
+# Blender first (the two downloads overlap): 5.2's (lint, the core's tests but the slow ones,
+# the Blender tests that render no shots, then the shots) and 4.5's (its Blender tests, then the
+# core's slow ones: the stability suite, on 4.5's numpy<2). Each lane's output is printed whole
+# when it ends.
+test:
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-4.5 test-5.2
 
-test-5.2: $(VENV)/.blender
+test-5.2: lint
 	$(PY) -m pytest -m "not slow" tests/core
 	$(PY) -m pytest -m "not slow" tests/blender
 	$(PY) -m pytest -m slow tests/blender
