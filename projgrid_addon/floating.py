@@ -118,13 +118,11 @@ class Float:
 
 def pose(source, t, world, f):
     """The world matrix (4 x 4) that carries float `f` from where the scene places it onto the
-    sea of the ocean at `world` (its matrix: the sea lies in its local x, y, at its level) at
-    time t: tilted about its origin onto the plane fitted over its footprint (`ride`,
-    `tilt`), lifted so its keel sits `draft` under the water's mean there."""
-    to_sea = np.linalg.inv(world)
-    centre = (to_sea @ np.array([f.centre[0], f.centre[1], world[2, 3], 1.0]))[:2]
-    yaw = np.arctan2(world[1, 0], world[0, 0])
-    heave, slopes = ride(source, t, centre, f.heading - yaw, f.length, f.beam)
+    sea of the ocean at `world` (its matrix: the sea lies at its level, its waves where the
+    world's x, y are, as the grid samples them: the ocean's place across the sea, its rotation
+    and scale move no wave) at time t: tilted about its origin onto the plane fitted over its
+    footprint (`ride`, `tilt`), lifted so its keel sits `draft` under the water's mean there."""
+    heave, slopes = ride(source, t, f.centre, f.heading, f.length, f.beam)
     lift = float(world[2, 3]) + heave - f.draft - f.keel
     out = np.eye(4)
     out[:3, :3] = tilt(slopes, f.heading, f.response)

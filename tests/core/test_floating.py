@@ -113,3 +113,23 @@ def test_the_draft_is_archimedes():
         floating.draft(-1.0, volume, area)
     with pytest.raises(ValueError, match="area"):
         floating.draft(500.0, volume, 0.0)
+
+
+def test_a_float_rides_the_waves_where_they_are_whatever_the_ocean_s_place():
+    """The grid samples the sea at the world's x, y (the ocean's place across the sea, its
+    rotation and scale move no wave): a float keeps its pose, but for the ocean's level,
+    when the ocean moves or turns, and its heave is the sea's mean at its world place."""
+    sea, places = sea_and_places()
+    f = floating.Float(key="f", origin=(40.0, 12.0, 0.0), centre=(40.0, 12.0), heading=0.4,
+                       length=1.0, beam=1.0, keel=-0.5, draft=0.2, response=1.0)
+    at_origin = floating.pose(sea, 7.0, np.eye(4), f)
+    moved = np.eye(4)
+    c, s = np.cos(0.9), np.sin(0.9)
+    moved[:2, :2] = [[c, -s], [s, c]]
+    moved[:3, 3] = (150.0, -60.0, 2.0)
+    there = floating.pose(sea, 7.0, moved, f)
+    assert there[:3, :3] == pytest.approx(at_origin[:3, :3], abs=1e-12)
+    assert there[:3, 3] == pytest.approx(at_origin[:3, 3] + [0.0, 0.0, 2.0], abs=1e-9)
+    heave, _ = floating.ride(sea, 7.0, f.centre, f.heading, f.length, f.beam)
+    lifted = at_origin @ [*f.origin, 1.0]  # its origin, lifted (turned about itself)
+    assert lifted[2] == pytest.approx(f.origin[2] + heave - f.draft - f.keel, abs=1e-9)
