@@ -15,7 +15,7 @@ import numpy as np
 from .validation import finite, non_negative
 
 EFFECTS = ("foam", "contact_foam", "underwater", "refraction", "caustics", "godrays",
-           "local_reflections", "spray")
+           "local_reflections", "spray", "wakes")
 MODES = ("AUTO", "ON", "OFF")
 # How far above and below its level AUTO takes the sea to reach (SceneFacts.reach), in standard
 # deviations of its heights: the sea's extremes over a shot's view (about 1e5 waves of a
@@ -24,6 +24,8 @@ REACH_SIGMAS = 5.0
 # Below this whitecap coverage (wind about 4 m/s, Beaufort 3: "scattered white horses") AUTO
 # leaves foam off.
 FOAM_MIN_COVERAGE = 5e-4
+# From this speed (m/s) a hull on the water makes a wake AUTO draws (wake_field.py).
+MOVING = 0.5
 # From this wind AUTO draws spray (spray.py): Beaufort 8's least, where "edges of crests begin
 # to break into spindrift" (WMO).
 SPRAY_ONSET = 17.2  # m/s
@@ -57,12 +59,14 @@ class SceneFacts:
     # m: the height the sea reaches in a shot, REACH_SIGMAS standard deviations of its heights
     # (at most `bound`, which sums every band's extreme: some 11 of them for the spectrum)
     reach: float = 0.0
+    # (name, m/s now, rms m/s over its wake's window) of each hull riding the sea
+    movers: tuple = ()
 
     def key(self):
         """A compact value equal for equal facts, cheap to compare on every update."""
         objects = self.objects_key if self.objects_key is not None else objects_key(self.objects)
         return (self.camera_height, self.bound, self.reach, self.wind_speed,
-                self.sun_elevation, self.sun_direction, objects)
+                self.sun_elevation, self.sun_direction, objects, self.movers)
 
 
 def objects_key(objects):
@@ -126,7 +130,13 @@ def _auto(facts):
         reflections = (True, f"{_names(mirrored)} stands above the water, mirrored in view")
     else:
         reflections = (False, "sky only: nothing above the water is mirrored in view")
+    moving = [SceneObject(name, 0.0, 0.0, False) for name, _, rms in facts.movers
+              if rms >= MOVING]
+    fastest = max((now for _, now, _ in facts.movers), default=0.0)
     return {
+        "wakes": ((True, f"{_names(moving)} moves on the water (fastest now {fastest:.2g} m/s)")
+                  if moving else (False, f"nothing on the water moves faster than {MOVING:g} "
+                                  "m/s")),
         "foam": (cover >= FOAM_MIN_COVERAGE,
                  f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"),
         "contact_foam": ((True, f"{_names(crossing)} crosses the surface in view, {reach}")

@@ -103,7 +103,9 @@ class Float:
     """One floating object as the scene places it (its own animation, before the float): its
     `origin` (x, y, z), the waterline footprint's `centre` (x, y), `heading` (rad from +x),
     `length` and `beam` (m), its lowest point's height `keel` (m), how deep it sits (`draft`,
-    m) and how far it follows the water's tilt (`response`). All world."""
+    m) and how far it follows the water's tilt (`response`). All world. And where its
+    animation took it over the past seconds (`course`: times, x, y of the footprint's centre,
+    for its wake: wake_field.Course) and its `name`."""
 
     key: str
     origin: tuple
@@ -114,6 +116,8 @@ class Float:
     keel: float
     draft: float
     response: float
+    course: tuple = ()
+    name: str = ""
 
 
 def pose(source, t, world, f):

@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import effects, floating, foam, memory, optics, shading, spray
+from . import effects, floating, foam, memory, optics, shading, spray, wake_field
 from .camera import Camera
 from .height_field import HeightField
 from .projected_grid import build_grid
@@ -145,17 +145,26 @@ def plan(inputs):
                       large_only=True)
     cam = Camera(*inputs.camera)
     level = float(inputs.world[2, 3])
+    courses = tuple(wake_field.course(f.name, *f.course, f.draft, f.length, f.beam)
+                    for f in inputs.floats if f.course)
     facts = replace(inputs.facts, bound=bound,
-                    reach=min(bound, effects.REACH_SIGMAS * hf.spread[0]))
+                    reach=min(bound, effects.REACH_SIGMAS * hf.spread[0]),
+                    movers=tuple((c.name, wake_field.speed_now(c), wake_field.speeds(c)[1])
+                                 for c in courses))
     decisions = effects.decide({e: getattr(s, e) for e in effects.EFFECTS}, facts)
     on = {e: d[0] for e, d in decisions.items()}
     result = build_grid(cam, hf, level=level, time=t, resolution=inputs.resolution,
                         projector_elevation=s.projector_elevation, origin=inputs.world[:3, 3],
                         crest=foam.whitecap_level(hf) if on["foam"] else None)
     visible = result.visible
+    wake_foam = (wake_field.draw(result, courses, hf.wave_scale)[1:]
+                 if visible and on["wakes"] else None)
     boxes = effects.crossing_boxes(facts) if visible and on["contact_foam"] else ()
     whitecaps, residual = (foam.foam_field(hf, result, t, s.wind_speed, on["foam"], boxes,
                                            level, inputs.dolly) if visible else (None, None))
+    if wake_foam is not None:
+        whitecaps, residual = (w.ravel() if f is None else np.maximum(f, w.reshape(f.shape))
+                               for f, w in zip((whitecaps, residual), wake_foam, strict=True))
     caustics = optics.caustic_field(result.surface, facts) if visible and on["caustics"] else None
     godrays = optics.godray_field(hf, t, cam.position, level, facts) if on["godrays"] else None
     puffs = spray.spray(hf, t, cam.position[:2], spray.view_wedge(cam), level, s.wind_speed,

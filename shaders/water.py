@@ -84,7 +84,7 @@ RESIDUAL_ATTRIBUTE = "projgrid_foam_residual"  # and the residual foam's (residu
 # (absent, the attribute reads 0: the flat water's shadow).
 CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 # The node joining a branch to the water, and the effects that need it; muted while none is on.
-EFFECT_NODES = {"Foam": ("foam", "contact_foam"), "Refraction": ("refraction",)}
+EFFECT_NODES = {"Foam": ("foam", "contact_foam", "wakes"), "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
 LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own images
 

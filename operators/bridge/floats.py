@@ -9,10 +9,12 @@ import numpy as np
 from mathutils import Matrix
 
 from ...projgrid_addon import floating
+from ...projgrid_addon.wakes import WINDOW
 from ...shaders.nodes import TAG
 from . import scene
 
 CONSTRAINT = "Ocean Float"
+COURSE_STEP = 0.1  # s between the samples of a float's course (its wake: wake_field.py)
 
 
 def refusal(obj):
@@ -72,9 +74,11 @@ def unfloat_object(obj):
         bpy.data.objects.remove(follower)
 
 
-def gather(app, the_scene, depsgraph):
+def gather(app, the_scene, depsgraph, t=0.0, per_frame=0.0, courses=False):
     """The floats riding the ocean of appearance `app` (its own placement only), as
-    `the_scene` places them at this frame: floating.Float each (nothing written)."""
+    `the_scene` places them at this frame (time `t`, s; `per_frame` s a frame), and with
+    `courses` where their keys took them over the wake's window: floating.Float each
+    (nothing written)."""
     if app.chain:
         return ()
     out = []
@@ -99,8 +103,30 @@ def gather(app, the_scene, depsgraph):
         out.append(floating.Float(
             key=settings.follower.name, origin=tuple(basis[:3, 3]), centre=tuple(centre[:2]),
             heading=float(np.arctan2(basis[1, 0], basis[0, 0])), length=length, beam=beam,
-            keel=float(world[:, 2].min()), draft=draft, response=float(s.response)))
+            keel=float(world[:, 2].min()), draft=draft, response=float(s.response),
+            course=course(obj, t, per_frame, centre[:2] - basis[:2, 3]) if courses else (),
+            name=obj.name))
     return tuple(out)
+
+
+def course(obj, t, per_frame, offset):
+    """(times, x, y): where `obj`'s location keys took its footprint's centre (its origin
+    plus `offset`) over the past WINDOW seconds up to `t`, on an absolute lattice of
+    COURSE_STEP s and now; () when neither its x nor its y is keyed to move."""
+    curves = {c.array_index: c for c in scene.bag_curves(obj)
+              if c.data_path == "location" and c.array_index in (0, 1) and not c.mute}
+    if per_frame <= 0.0 or not any(
+            c.modifiers or len({round(k.co[1], 9) for k in c.keyframe_points}) > 1
+            for c in curves.values()):
+        return ()
+    newest = np.floor(t / COURSE_STEP) * COURSE_STEP
+    times = newest - COURSE_STEP * np.arange(int(WINDOW / COURSE_STEP), -1, -1)
+    if times[-1] < t:
+        times = np.append(times, t)
+    frames = times / per_frame
+    x, y = ([curves[i].evaluate(f) + offset[i] for f in frames] if i in curves
+            else [float(obj.location[i]) + offset[i]] * len(frames) for i in (0, 1))
+    return tuple(times.tolist()), tuple(x), tuple(y)
 
 
 def follows(obj):

@@ -179,6 +179,8 @@ class ProjectedGridSettings(bpy.types.PropertyGroup):
                              "(sky only without them)")
     spray: _mode("spray", "Spindrift and spray the wind tears off the breaking crests (from "
                  "Beaufort 8)")
+    wakes: _mode("wakes", "The waves boats leave behind them: Kelvin's wake of each "
+                 "floating object whose keys move it across the water")
     water_body: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},
                                 description="Our water body volume (underwater, refraction)")
     shadow_caster: PointerProperty(type=bpy.types.Object, options={"HIDDEN"},

@@ -74,3 +74,15 @@ def test_a_wake_moves_on_smoothly_from_frame_to_frame():
     assert np.array_equal(frames[2], wakes.wake_heights(xy, 50.0 + 2 / 24.0, path, 1.0, LENGTH))
     height = np.abs(frames[0]).max()
     assert np.abs(np.diff(frames, axis=0)).max() < height / 6.0
+
+
+def test_the_raster_sum_is_the_pointwise_sum():
+    """raster_heights (an emission at a time, read in r only) gives wake_heights' heights."""
+    u = 0.6 * np.sqrt(G * LENGTH)
+
+    def path(taus):
+        return np.stack([u * taus, 2.0 * np.sin(0.1 * taus)])
+    xs, ys = np.arange(200.0, 280.0, 1.3), np.arange(-30.0, 30.0, 1.1)
+    raster = wakes.raster_heights(xs, ys, 50.0, path, 0.7, LENGTH)
+    points = wakes.wake_heights(np.stack(np.meshgrid(xs, ys)), 50.0, path, 0.7, LENGTH)
+    assert np.abs(raster - points).max() < 1e-4 * np.abs(points).max()

@@ -1,0 +1,320 @@
+"""The wakes the grid draws (the `wakes` effect): each hull's wake read from its steady wake,
+laid along its course over the past WINDOW seconds; a pure function of the courses and the
+time.
+
+Summing the rings of every emission (wakes.py) costs a point times an emission: too much for
+every vertex of every frame. But a pressure patch at a steady speed makes a wake that is steady
+in its own frame, and in deep water the same for every patch size once lengths are counted in
+its sigma, heights in drafts and speed as the Froude number F = U / sqrt(g sigma). So a patch's
+steady wake is summed once per Froude number (`steady`, a half-raster: it is symmetric about the
+track). A hull is a row of such patches along its waterline (`hull`): sigma a third of its
+beam, 4/3 sigma apart, so the pressure is nearly even over the hull and falls off at its bow
+and stern, whose wave systems make the V of divergent waves and the cusps; their steady wake is
+the patch's, shifted and summed (`hull_wake`). It is read for each point at its place in the
+wake: xi, how far behind the hull along its course, and eta, how far across it. Where the
+course turns the wake turns with it; where the speed changed, the waves there have the length
+of the speed then (2 pi U^2 / g): xi and eta are stretched by (U_ref / U)^2 along the course,
+summed so the phase runs on. Hulls that change speed or turn sharply get the steady wake of
+each stretch of their course, not the transients: a wake that looks right, not an exact one
+(wakes.wake_heights is).
+
+What is drawn is the moving hull's wake: the hydrostatic dent a hull at rest sits in is taken
+out (the hull hides it, and the float sits at its draft already), so a hull at rest has none.
+The Froude numbers are kept on a geometric ladder; a hull between two rungs reads both,
+weighted, as it does two patch counts, so its wake changes continuously with its speed. Fast
+hulls' patches are widened until their transverse waves span at most 16 sigma (F at most 1.6,
+the ladder's top): the wake's shortest waves then go with the raster's cells (`hull`)."""
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from . import wakes
+from .effects import MOVING
+from .spectrum import GRAVITY
+from .tiles import bilinear
+
+RUNG = 1.12  # the ladder of Froude numbers: F = RUNG^i
+LADDER = (-14, 4)  # its rungs: F 0.2 to 1.57 (below 0.2 the wake fades out over 3 rungs)
+BEHIND, AHEAD, ACROSS = 120.0, 8.0, 50.0  # a patch's steady wake's extent, in sigma
+CELL = 1.0 / 3.0  # its raster's cell, in sigma (its shortest waves, 2 sigma, over 6 cells)
+PATCH = 4  # cells between a hull's patches (4/3 sigma: their sum within 1 % of even)
+MOST = 8  # patches a hull is made of at most
+FADE = 20.0  # sigma: the steady wake's far end fades out over this
+# The wake is read near the hull from its patches, and from BEHIND - FADE on (where that fades)
+# from patches FAR times as wide: a steady wake reaching FAR times as far, without the
+# shortest divergent waves (which that far behind no grid holds but one close over them)
+FAR = 2.0
+TABLE = (300.0, 150.0)  # the response table (reach, window) every rung reads (sigma 1)
+CUT = 40.0  # m/s: a course faster than this over a step was cut (a jump): it starts anew
+SLOWEST = 0.3  # m/s: the speed below which a stretch of course is taken as at rest
+SEGMENT = 0.5  # hull lengths: the course is followed on segments about this long
+FOAM_FROUDE = (0.2, 0.5)  # the hull Froude numbers its stern's wake turns white over
+BEAMS = 1.0  # the stern foam's band, in beams (two standard deviations across)
+SPREAD = 2.0  # s: the band widens by sqrt(1 + age / SPREAD)
+ACTIVE_DECAY, RESIDUAL_DECAY = 3.0, 12.0  # s
+
+
+@dataclass(frozen=True)
+class Course:
+    """One hull's course over the past WINDOW seconds, as the scene's animation places it:
+    `times` (s, ascending, the last now) and `x`, `y` (m, world) of its footprint's centre;
+    its `draft`, `length` and `beam` (m)."""
+
+    name: str
+    times: tuple
+    x: tuple
+    y: tuple
+    draft: float
+    length: float
+    beam: float
+
+
+def course(name, times, x, y, draft, length, beam):
+    """The Course of a hull whose animation placed it at (x, y) at `times` (ascending), from
+    after the last cut in it (a step faster than CUT: the hull jumped)."""
+    t, x, y = (np.asarray(v, dtype=np.float64) for v in (times, x, y))
+    jumps = np.flatnonzero(np.hypot(np.diff(x), np.diff(y)) > CUT * np.maximum(np.diff(t), 0))
+    start = int(jumps[-1]) + 1 if len(jumps) else 0
+    return Course(str(name), tuple(t[start:]), tuple(x[start:]), tuple(y[start:]),
+                  max(float(draft), 0.0), max(float(length), 0.05), max(float(beam), 0.05))
+
+
+def draw(result, courses, wave_scale):
+    """Add the wakes of `courses` to the grid of `result` (projected_grid.GridResult), to its
+    vertices' heights and its surface, where the grid holds them: each wake whole where its
+    transverse waves (2 pi U_ref^2 / g) span four vertex spacings or more, faded out until
+    two (the band limit, band_limit.py). Returns (heights added, active foam, residual foam),
+    (ny, nx) float32 each (the foams the largest over the wakes)."""
+    x, y, h = result.surface
+    spacing = wave_scale / 2.0 ** (result.lod.reshape(h.shape) + 1.0)
+    total, active, residual = (np.zeros(h.shape, np.float32) for _ in range(3))
+    for c in courses:
+        _, u_ref = speeds(c)
+        if u_ref < MOVING:
+            continue
+        wavelength = 2.0 * np.pi * u_ref * u_ref / GRAVITY
+        hold = np.clip(np.log2(wavelength / np.maximum(spacing, 1e-9)) - 1.0, 0.0, 1.0)
+        lift, fresh, old = read(c, np.stack([x, y]), foam=True)
+        total += lift * hold.astype(np.float32)
+        np.maximum(active, fresh, out=active)
+        np.maximum(residual, old, out=residual)
+    result.positions[:, 2] += total.ravel()
+    result.surface = (x, y, h + total)
+    return total, active, residual
+
+
+def speeds(course):
+    """(U per segment between samples (m/s), U_ref): the speeds along the course and the
+    rms speed over it, which sets its Froude number (0 when it has not moved)."""
+    t = np.asarray(course.times, dtype=np.float64)
+    if len(t) < 2:
+        return np.zeros(0), 0.0
+    step = np.hypot(np.diff(course.x), np.diff(course.y))
+    dt = np.maximum(np.diff(t), 1e-9)
+    u = step / dt
+    return u, float(np.sqrt((u * u * dt).sum() / dt.sum()))
+
+
+def speed_now(course, dt=0.5):
+    """The hull's speed (m/s) over the last `dt` s of its course."""
+    t = np.asarray(course.times, dtype=np.float64)
+    if len(t) < 2:
+        return 0.0
+    back = max(t[-1] - dt, t[0])
+    if back >= t[-1]:
+        return 0.0
+    x0, y0 = np.interp(back, t, course.x), np.interp(back, t, course.y)
+    return float(np.hypot(course.x[-1] - x0, course.y[-1] - y0) / (t[-1] - back))
+
+
+@lru_cache(maxsize=8)
+def steady(rung):
+    """(heights, xi0): the moving part of the steady wake of a patch of unit peak pressure
+    (in drafts) and sigma 1 at Froude number RUNG^rung, on a raster of CELL: rows
+    xi = xi0 + i CELL (behind it, from AHEAD ahead), columns eta = j CELL (across, one side)."""
+    u = RUNG**rung * np.sqrt(GRAVITY)
+    window = min(2.2 * BEHIND / u, TABLE[1])  # its transverse waves formed out to BEHIND
+    xi = np.arange(-AHEAD, BEHIND + CELL, CELL)
+    eta = np.arange(0.0, ACROSS + CELL, CELL)
+
+    def path(taus):
+        return np.stack([u * (taus - window), np.zeros_like(taus)])
+
+    moving = wakes.raster_heights(-xi, eta, window, path, 1.0, 4.0, window, TABLE).T
+    dent = np.exp(-0.5 * (xi[:, None] ** 2 + eta**2))  # at rest: -exp(-r^2 / 2)
+    fade = np.clip((BEHIND - xi) / FADE, 0.0, 1.0)[:, None] * np.clip(
+        (ACROSS - eta) / (0.2 * ACROSS), 0.0, 1.0)
+    return ((moving + dent) * fade).astype(np.float32), float(xi[0])
+
+
+@lru_cache(maxsize=16)
+def hull_wake(rung, patches):
+    """(heights, xi0) as `steady` of a row of `patches` patches PATCH cells apart, centred
+    on xi 0."""
+    one, xi0 = steady(rung)
+    out = np.zeros((one.shape[0] + PATCH * (patches - 1), one.shape[1]), np.float32)
+    for i in range(patches):
+        out[PATCH * i:PATCH * i + one.shape[0]] += one
+    return out, xi0 - 0.5 * PATCH * (patches - 1) * CELL
+
+
+def hull(length, beam, u_ref, widen=1.0):
+    """(sigma, patches, peak): a hull of `length` and `beam` moving at U_ref as a row of
+    patches along its waterline: their sigma (a third of the beam, widened for a fast hull:
+    its transverse waves 2 pi U^2 / g span at most 16 sigma, and for a long one: MOST
+    patches), how many (fractional: two counts are read, weighted) and the peak pressure
+    (drafts) of each that gives them the hull's waterplane, length times beam."""
+    sigma = widen * max(beam / 3.0, 2.0 * np.pi * u_ref * u_ref / GRAVITY / 16.0,
+                        length / (PATCH * CELL * MOST), 0.02)
+    patches = max(length / (PATCH * CELL * sigma), 1.0)
+    return sigma, patches, length * beam / (2.0 * np.pi * sigma * sigma)
+
+
+def rungs(u_ref, sigma):
+    """[(rung, weight)]: the rungs either side of the Froude number of U_ref, weighted (below
+    the ladder its lowest, fading out over 3 rungs)."""
+    position = np.log(max(u_ref, 1e-6) / np.sqrt(GRAVITY * sigma)) / np.log(RUNG)
+    fade = float(np.clip((position - LADDER[0] + 3.0) / 3.0, 0.0, 1.0))
+    position = min(max(position, LADDER[0]), LADDER[1])
+    low = min(int(np.floor(position)), LADDER[1] - 1)
+    w = float(position - low)
+    return [(r, v * fade) for r, v in ((low, 1.0 - w), (low + 1, w)) if v * fade > 0.0]
+
+
+def follow(course, points, ahead):
+    """(xi, n, U, arc) of world points (2, M) against the course, in metres: xi the arc
+    length behind the hull to the point's nearest place on the course (negative ahead of the
+    hull, along its last heading), n the signed distance across the course from there, U the
+    course's speed there; and the course's arc length over the window. Unstretched."""
+    xy = np.stack([np.asarray(course.x, dtype=np.float64), np.asarray(course.y, np.float64)])
+    u, _ = speeds(course)
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=1)))])
+    # on segments about SEGMENT hull lengths long, the newest sample kept, and one `ahead` m on
+    keep = np.unique(np.concatenate([np.searchsorted(
+        arc, np.arange(0.0, arc[-1], SEGMENT * course.length)), [len(arc) - 1]]))
+    a, arc_k = xy[:, keep], arc[keep]
+    heading = a[:, -1] - a[:, -2] if a.shape[1] > 1 else np.array([1.0, 0.0])
+    heading = heading / max(np.hypot(*heading), 1e-9)
+    on = ahead
+    a = np.concatenate([a, (a[:, -1] + heading * on)[:, None]], axis=1)
+    arc_k = np.append(arc_k, arc[-1] + on)
+    start, seg = a[:, :-1, None], np.diff(a, axis=1)[:, :, None]
+    length2 = np.maximum((seg * seg).sum(axis=0), 1e-12)
+    p = np.asarray(points, dtype=np.float64)[:, None, :]  # (2, segments, points)
+    f = np.clip(((p[0] - start[0]) * seg[0] + (p[1] - start[1]) * seg[1]) / length2, 0.0, 1.0)
+    dx, dy = p[0] - start[0] - f * seg[0], p[1] - start[1] - f * seg[1]
+    k = np.argmin(dx * dx + dy * dy, axis=0)
+    cols = np.arange(p.shape[2])
+    along = arc_k[k] + f[k, cols] * np.sqrt(length2[k, 0])
+    n = (seg[0, k, 0] * dy[k, cols] - seg[1, k, 0] * dx[k, cols]) / np.sqrt(length2[k, 0])
+    u_at = (np.interp(along, 0.5 * (arc[1:] + arc[:-1]), u) if len(u)
+            else np.zeros_like(along))
+    return arc[-1] - along, n, u_at, float(arc[-1])
+
+
+def heights(course, points):
+    """The wake's heights (m) of `course` now at world points (2, ...) (`read`)."""
+    return read(course, points)[0]
+
+
+def read(course, points, foam=False):
+    """(heights, active, residual) of `course`'s wake now at world points (2, ...): the
+    heights (m) of its hull's steady wake read at each point's stretched place along and
+    across the course, faded out over the oldest wakes.TAPER of the course's arc (the
+    window's end); with `foam`, its foam's shares in [0, 1] (`stern_foam`), else None each.
+    The places are found on a raster of cells SEGMENT hull lengths wide over the wake and
+    read bilinearly (exact on a straight course, where they are linear; n is signed so it is
+    across the track too)."""
+    points = np.asarray(points, dtype=np.float64)
+    flat = points.reshape(2, -1)
+    u, u_ref = speeds(course)
+    out = np.zeros(flat.shape[1], np.float32)
+    shares = [np.zeros_like(out), np.zeros_like(out)] if foam else [None, None]
+    done = (out.reshape(points.shape[1:]), *(None if v is None else v.reshape(
+        points.shape[1:]) for v in shares))
+    if u_ref < MOVING or not flat.size:
+        return done
+    sigma = hull(course.length, course.beam, u_ref)[0]
+    # how far across the wake reaches: ACROSS far sigmas where the hull went fastest; ahead
+    reach = ACROSS * FAR * sigma * min((u.max() / u_ref) ** 2, 4.0) * RUNG
+    ahead = (AHEAD + 0.5 * PATCH * CELL * (course.length / (PATCH * CELL * sigma) + 2.0)) * sigma
+    cell = SEGMENT * course.length
+    lo = np.array([min(course.x), min(course.y)]) - reach - ahead - 2.0 * cell
+    hi = np.array([max(course.x), max(course.y)]) + reach + ahead + 2.0 * cell
+    within = np.flatnonzero((flat[0] > lo[0]) & (flat[0] < hi[0]) & (flat[1] > lo[1])
+                            & (flat[1] < hi[1]))
+    if not within.size:
+        return done
+    p = flat[:, within]
+    lo, hi = p.min(axis=1) - cell, p.max(axis=1) + cell
+    nx, ny = (np.ceil((hi - lo) / cell).astype(int) + 1)
+    gx, gy = np.meshgrid(lo[0] + cell * np.arange(nx), lo[1] + cell * np.arange(ny))
+    xi, n, u_at, arc = (np.reshape(v, (ny, nx)) if np.ndim(v) else v
+                        for v in follow(course, np.stack([gx.ravel(), gy.ravel()]), ahead))
+    ci, cj = (p[0] - lo[0]) / cell, (p[1] - lo[1]) / cell
+    xi, eta, u_at = (bilinear(v, ci, cj) for v in (xi, n, u_at))
+    # the stretch (U_ref / U)^2, summed along the course from the hull back: arc / U^2
+    dt = np.diff(np.asarray(course.times, dtype=np.float64))
+    per = np.maximum(u, SLOWEST) ** -2.0 * u * dt
+    behind = np.concatenate([np.cumsum(per[::-1])[::-1], [0.0]])
+    arc_at = np.concatenate([[0.0], np.cumsum(u * dt)])
+    stretch = np.where(xi > 0.0, np.interp(arc - xi, arc_at, behind),
+                       xi / max(u[-1], SLOWEST) ** 2)  # s^2 / m
+    across = np.abs(eta) / np.maximum(u_at, SLOWEST) ** 2
+    taper = np.clip((arc - xi) / max(wakes.TAPER * arc, 1e-9), 0.0, 1.0)
+    got = np.zeros(len(within), np.float32)
+    near = None  # how much of the near wake is read at each point (1 - the far wake's share)
+    for widen in (1.0, FAR):
+        sigma, patches, peak = hull(course.length, course.beam, u_ref, widen)
+        ladder = rungs(u_ref, sigma)
+        if near is not None and not ladder:
+            break
+        total = sum(w for _, w in ladder)
+        share = np.zeros(len(within)) if near is None else np.clip(1.0 - near, 0.0, 1.0)
+        use = np.ones(len(within), bool) if near is None else share > 0.0
+        count = int(np.floor(patches))
+        for rung, weight in ladder:
+            scale = RUNG ** (2 * rung) * GRAVITY / CELL  # U_rung^2 / sigma^2, in cells
+            if near is None:  # the near wake's own fade (`steady`), weighted as it is read
+                share += weight / total * np.clip(
+                    (BEHIND - scale * stretch * CELL) / FADE, 0.0, 1.0)
+            for k, w in ((count, 1.0 + count - patches), (count + 1, patches - count)):
+                if w <= 0.0:
+                    continue
+                table, xi0 = hull_wake(rung, k)
+                i = scale * stretch - xi0 / CELL
+                j = scale * across
+                inside = use & (i >= 0.0) & (i < table.shape[0] - 1) & (j < table.shape[1] - 1)
+                part = np.float32(weight * w * peak / k) * bilinear(table, j[inside], i[inside])
+                got[inside] += part if near is None else part * share[inside].astype(np.float32)
+        near = share
+    out[within] = got * (taper * course.draft).astype(np.float32)
+    if foam:
+        since = np.asarray(course.times)[-1] - np.interp(
+            arc - xi + 0.5 * course.length, arc_at, np.asarray(course.times))
+        for share, part in zip(shares, stern_foam(course, u_ref, xi, eta, since), strict=True):
+            share[within] = part * taper
+    return done
+
+
+def stern_foam(course, u_ref, xi, eta, since):
+    """(active, residual) foam shares of the turbulent wake behind the stern at points `xi`
+    behind the hull's centre and `eta` across its course, passed by the stern `since` s ago:
+    white behind a hull fast enough to break the water (hull Froude numbers U / sqrt(g L)
+    from FOAM_FROUDE[0], all of it from FOAM_FROUDE[1]), across a band BEAMS wide that
+    spreads as the square root of its age, fresh foam decaying over ACTIVE_DECAY s into
+    residual foam that decays over RESIDUAL_DECAY (Callaghan et al. 2012: a whitecap's foam
+    decays over seconds, its residual longer)."""
+    froude = u_ref / np.sqrt(GRAVITY * course.length)
+    white = float(np.clip((froude - FOAM_FROUDE[0]) / (FOAM_FROUDE[1] - FOAM_FROUDE[0]),
+                          0.0, 1.0))
+    if white == 0.0:
+        return np.zeros(len(xi), np.float32), np.zeros(len(xi), np.float32)
+    age = np.maximum(since, 0.0)
+    half = 0.5 * BEAMS * course.beam * np.sqrt(1.0 + age / SPREAD)
+    band = white * np.exp(-0.5 * (eta / half) ** 2) * (since > 0.0) * np.clip(
+        (xi - 0.4 * course.length) / (0.2 * course.length), 0.0, 1.0)
+    return ((band * np.exp(-age / ACTIVE_DECAY)).astype(np.float32),
+            (band * np.exp(-age / RESIDUAL_DECAY)).astype(np.float32))
