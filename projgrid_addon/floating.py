@@ -59,13 +59,30 @@ def water_under(source, xy, t, lod=None):
 def ride(source, t, centre, heading, length, beam, samples=SAMPLES):
     """(heave, slopes): the mean height of the displaced surface over the footprint (m) and
     the slopes (along, across the heading) of the plane fitted to it by least squares."""
-    length, beam = max(float(length), 1e-3), max(float(beam), 1e-3)
-    xy, offsets = footprint(centre, heading, length, beam, samples)
-    spacing = max(length, beam) / samples
-    lod = np.full(xy.shape[1:], lod_for_spacing(source.wave_scale, spacing))
-    _, h = water_under(source, xy, t, lod)
-    # The offsets are centred and the lattice symmetric: the fit's terms are independent.
-    return float(h.mean()), tuple(float((o @ h) / (o @ o)) for o in offsets)
+    return rides(source, t, [(centre, heading, length, beam)], samples)[0]
+
+
+def rides(source, t, hulls, samples=SAMPLES):
+    """`ride` of each of `hulls` ((centre, heading, length, beam) each), their footprints'
+    water found at once (one sampling of the sea for all: a call costs the same for 81
+    points as for a thousand)."""
+    points, offsets, lods = [], [], []
+    for centre, heading, length, beam in hulls:
+        length, beam = max(float(length), 1e-3), max(float(beam), 1e-3)
+        xy, offset = footprint(centre, heading, length, beam, samples)
+        points.append(xy)
+        offsets.append(offset)
+        lods.append(np.full(xy.shape[1:], lod_for_spacing(source.wave_scale,
+                                                          max(length, beam) / samples)))
+    if not points:
+        return []
+    _, h = water_under(source, np.concatenate(points, axis=1), t, np.concatenate(lods))
+    out = []
+    for k, offset in enumerate(offsets):
+        here = h[k * samples * samples:(k + 1) * samples * samples]
+        # The offsets are centred and the lattice symmetric: the fit's terms are independent.
+        out.append((float(here.mean()), tuple(float((o @ here) / (o @ o)) for o in offset)))
+    return out
 
 
 def tilt(slopes, heading, response=1.0):
@@ -122,14 +139,24 @@ class Float:
 
 def pose(source, t, world, f):
     """The world matrix (4 x 4) that carries float `f` from where the scene places it onto the
-    sea of the ocean at `world` (its matrix: the sea lies at its level, its waves where the
-    world's x, y are, as the grid samples them: the ocean's place across the sea, its rotation
-    and scale move no wave) at time t: tilted about its origin onto the plane fitted over its
-    footprint (`ride`, `tilt`), lifted so its keel sits `draft` under the water's mean there."""
-    heave, slopes = ride(source, t, f.centre, f.heading, f.length, f.beam)
-    lift = float(world[2, 3]) + heave - f.draft - f.keel
-    out = np.eye(4)
-    out[:3, :3] = tilt(slopes, f.heading, f.response)
-    origin = np.asarray(f.origin, dtype=np.float64)
-    out[:3, 3] = origin + np.array([0.0, 0.0, lift]) - out[:3, :3] @ origin
+    sea of the ocean at `world` at time t (`poses`)."""
+    return poses(source, t, world, [f])[0]
+
+
+def poses(source, t, world, floats):
+    """For each float, the world matrix (4 x 4) that carries it from where the scene places it
+    onto the sea of the ocean at `world` (its matrix: the sea lies at its level, its waves where
+    the world's x, y are, as the grid samples them: the ocean's place across the sea, its
+    rotation and scale move no wave) at time t: tilted about its origin onto the plane fitted
+    over its footprint (`rides`, `tilt`), lifted so its keel sits `draft` under the water's
+    mean there."""
+    out = []
+    for f, (heave, slopes) in zip(floats, rides(source, t, [
+            (f.centre, f.heading, f.length, f.beam) for f in floats]), strict=True):
+        lift = float(world[2, 3]) + heave - f.draft - f.keel
+        matrix = np.eye(4)
+        matrix[:3, :3] = tilt(slopes, f.heading, f.response)
+        origin = np.asarray(f.origin, dtype=np.float64)
+        matrix[:3, 3] = origin + np.array([0.0, 0.0, lift]) - matrix[:3, :3] @ origin
+        out.append(matrix)
     return out

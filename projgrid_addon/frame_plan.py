@@ -186,7 +186,8 @@ def plan(inputs):
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
         foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None, spray=puffs,
         warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3,
-        floats=tuple((f.key, floating.pose(hf, t, inputs.world, f)) for f in inputs.floats))
+        floats=tuple(zip((f.key for f in inputs.floats),
+                         floating.poses(hf, t, inputs.world, inputs.floats), strict=True)))
 
 
 def gust_drift(s, per_frame, frame, samples):

@@ -49,7 +49,10 @@ FAR = 2.0
 TABLE = (300.0, 150.0)  # the response table (reach, window) every rung reads (sigma 1)
 CUT = 40.0  # m/s: a course faster than this over a step was cut (a jump): it starts anew
 SLOWEST = 0.3  # m/s: the speed below which a stretch of course is taken as at rest
-SEGMENT = 0.5  # hull lengths: the course is followed on segments about this long
+SEGMENT = 1.0  # hull lengths: the course is followed on segments about this long
+WEDGE = 0.45  # a wake reaches at most this far across its track per metre behind (Kelvin's
+# 0.35, with room for the stretch of a hull that slowed), and MARGIN far sigmas besides
+MARGIN = 8.0
 FOAM_FROUDE = (0.2, 0.5)  # the hull Froude numbers its stern's wake turns white over
 BEAMS = 1.0  # the stern foam's band, in beams (two standard deviations across)
 SPREAD = 2.0  # s: the band widens by sqrt(1 + age / SPREAD)
@@ -117,6 +120,13 @@ def speeds(course):
     return u, float(np.sqrt((u * u * dt).sum() / dt.sum()))
 
 
+def reference_speed(course, rms):
+    """The speed (m/s) a course's wake is read for: the hull's now (its near wake is its
+    steady wake now; the waves it left at other speeds stretched to theirs), or half its rms
+    speed over the window if more (a hull that stopped leaves its wake on the water)."""
+    return max(speed_now(course), 0.5 * rms)
+
+
 def speed_now(course, dt=0.5):
     """The hull's speed (m/s) over the last `dt` s of its course."""
     t = np.asarray(course.times, dtype=np.float64)
@@ -151,13 +161,22 @@ def steady(rung):
 
 @lru_cache(maxsize=16)
 def hull_wake(rung, patches):
-    """(heights, xi0) as `steady` of a row of `patches` patches PATCH cells apart, centred
-    on xi 0."""
+    """(heights, xi0) as `steady` of a row of patches PATCH cells apart, centred on xi 0, of
+    unit total peak pressure: `patches` (fractional: the two whole counts either side,
+    weighted by how near each is) sharing it evenly."""
     one, xi0 = steady(rung)
-    out = np.zeros((one.shape[0] + PATCH * (patches - 1), one.shape[1]), np.float32)
-    for i in range(patches):
-        out[PATCH * i:PATCH * i + one.shape[0]] += one
-    return out, xi0 - 0.5 * PATCH * (patches - 1) * CELL
+    low = max(int(np.floor(patches)), 1)
+    counts = [(low, 1.0 + low - patches), (low + 1, patches - low)] if patches > 1.0 else [
+        (1, 1.0)]
+    out = np.zeros((one.shape[0] + PATCH * low, one.shape[1]), np.float32)
+    for count, weight in counts:
+        if weight <= 0.0:
+            continue
+        start = PATCH * (low + 1 - count) // 2 if count == low else 0
+        for i in range(count):
+            out[start + PATCH * i:start + PATCH * i + one.shape[0]] += np.float32(
+                weight / count) * one
+    return out, xi0 - 0.5 * PATCH * low * CELL
 
 
 def hull(length, beam, u_ref, widen=1.0):
@@ -224,18 +243,20 @@ def read(course, points, foam=False):
     heights (m) of its hull's steady wake read at each point's stretched place along and
     across the course, faded out over the oldest wakes.TAPER of the course's arc (the
     window's end); with `foam`, its foam's shares in [0, 1] (`stern_foam`), else None each.
-    The places are found on a raster of cells SEGMENT hull lengths wide over the wake and
-    read bilinearly (exact on a straight course, where they are linear; n is signed so it is
-    across the track too)."""
+    The places are found on a raster of cells SEGMENT hull lengths wide over the wake
+    (`places`) and read bilinearly (exact on a straight course, where they are linear; n is
+    signed so it is across the track too); points in no cell the wedge reaches are left
+    out."""
     points = np.asarray(points, dtype=np.float64)
     flat = points.reshape(2, -1)
-    u, u_ref = speeds(course)
+    u, rms = speeds(course)
     out = np.zeros(flat.shape[1], np.float32)
     shares = [np.zeros_like(out), np.zeros_like(out)] if foam else [None, None]
     done = (out.reshape(points.shape[1:]), *(None if v is None else v.reshape(
         points.shape[1:]) for v in shares))
-    if u_ref < MOVING or not flat.size:
+    if rms < MOVING or not flat.size:
         return done
+    u_ref = reference_speed(course, rms)
     sigma = hull(course.length, course.beam, u_ref)[0]
     # how far across the wake reaches: ACROSS far sigmas where the hull went fastest; ahead
     reach = ACROSS * FAR * sigma * min((u.max() / u_ref) ** 2, 4.0) * RUNG
@@ -248,55 +269,90 @@ def read(course, points, foam=False):
     if not within.size:
         return done
     p = flat[:, within]
-    lo, hi = p.min(axis=1) - cell, p.max(axis=1) + cell
-    nx, ny = (np.ceil((hi - lo) / cell).astype(int) + 1)
-    gx, gy = np.meshgrid(lo[0] + cell * np.arange(nx), lo[1] + cell * np.arange(ny))
-    xi, n, u_at, arc = (np.reshape(v, (ny, nx)) if np.ndim(v) else v
-                        for v in follow(course, np.stack([gx.ravel(), gy.ravel()]), ahead))
+    lo = np.floor(p.min(axis=1) / cell - 1.0) * cell  # on a lattice: the same for any view
+    shape = tuple(np.ceil((p.max(axis=1) + cell - lo) / cell).astype(int)[::-1] + 1)
+    fields, alive, arc = places(course, u, lo, cell, shape, ahead, sigma)
     ci, cj = (p[0] - lo[0]) / cell, (p[1] - lo[1]) / cell
-    xi, eta, u_at = (bilinear(v, ci, cj) for v in (xi, n, u_at))
-    # the stretch (U_ref / U)^2, summed along the course from the hull back: arc / U^2
-    dt = np.diff(np.asarray(course.times, dtype=np.float64))
+    keep = alive[cj.astype(np.intp), ci.astype(np.intp)]
+    within, ci, cj = within[keep], ci[keep], cj[keep]
+    xi, eta, stretch, slow, since = sample(fields, ci, cj)
+    across = np.abs(eta) * slow
+    taper = np.clip((arc - xi) / max(wakes.TAPER * arc, 1e-9), 0.0, 1.0)
+    got = np.zeros(len(within), np.float32)
+    kept = None  # how much of the near wake each point reads (the far wake the rest)
+    for widen in (1.0, FAR):
+        sigma, patches, peak = hull(course.length, course.beam, u_ref, widen)
+        ladder = rungs(u_ref, sigma)
+        if not ladder:
+            break
+        total = sum(w for _, w in ladder)
+        at = np.arange(len(within)) if kept is None else np.flatnonzero(kept < 1.0)
+        rest = None if kept is None else (1.0 - kept[at]).astype(np.float32)
+        here, wide = stretch[at], across[at]
+        fade = np.zeros(len(at), np.float32)
+        for rung, weight in ladder:
+            scale = RUNG ** (2 * rung) * GRAVITY / CELL  # U_rung^2 / sigma^2, in cells
+            if kept is None:  # the near wake's own fade (`steady`), weighted as it is read
+                fade += np.float32(weight / total) * np.clip(
+                    (BEHIND - scale * CELL * here) / FADE, 0.0, 1.0)
+            table, xi0 = hull_wake(rung, round(patches, 3))
+            i = scale * here - xi0 / CELL
+            j = scale * wide
+            inside = np.flatnonzero((i >= 0.0) & (i < table.shape[0] - 1)
+                                    & (j < table.shape[1] - 1))
+            part = np.float32(weight * peak) * bilinear(table, j[inside], i[inside])
+            got[at[inside]] += part if rest is None else part * rest[inside]
+        if kept is None:
+            kept = fade
+    out[within] = got * (taper * course.draft).astype(np.float32)
+    if foam:
+        for share, part in zip(shares, stern_foam(course, u_ref, xi, eta, since), strict=True):
+            share[within] = part * taper
+    return done
+
+
+def places(course, u, lo, cell, shape, ahead, sigma):
+    """The course's places on the raster of cells `cell` wide from `lo` of (rows, columns)
+    `shape`: (fields, alive, arc): fields (rows, columns, 5) of xi, n (`follow`), the stretch
+    (arc / U^2 summed from the hull back, s^2 / m; ahead, xi / U_now^2), 1 / U^2 where the
+    point's place was passed and the time since the stern passed it (s); which cells (and
+    their neighbours) the wake may reach (ahead of the hull to the course's start, within
+    WEDGE of the track beside it); and the course's arc length (m)."""
+    ny, nx = shape
+    gx, gy = np.meshgrid(lo[0] + cell * np.arange(nx), lo[1] + cell * np.arange(ny))
+    xi, n, u_at, arc = follow(course, np.stack([gx.ravel(), gy.ravel()]), ahead)
+    t = np.asarray(course.times, dtype=np.float64)
+    dt = np.diff(t)
     per = np.maximum(u, SLOWEST) ** -2.0 * u * dt
     behind = np.concatenate([np.cumsum(per[::-1])[::-1], [0.0]])
     arc_at = np.concatenate([[0.0], np.cumsum(u * dt)])
     stretch = np.where(xi > 0.0, np.interp(arc - xi, arc_at, behind),
-                       xi / max(u[-1], SLOWEST) ** 2)  # s^2 / m
-    across = np.abs(eta) / np.maximum(u_at, SLOWEST) ** 2
-    taper = np.clip((arc - xi) / max(wakes.TAPER * arc, 1e-9), 0.0, 1.0)
-    got = np.zeros(len(within), np.float32)
-    near = None  # how much of the near wake is read at each point (1 - the far wake's share)
-    for widen in (1.0, FAR):
-        sigma, patches, peak = hull(course.length, course.beam, u_ref, widen)
-        ladder = rungs(u_ref, sigma)
-        if near is not None and not ladder:
-            break
-        total = sum(w for _, w in ladder)
-        share = np.zeros(len(within)) if near is None else np.clip(1.0 - near, 0.0, 1.0)
-        use = np.ones(len(within), bool) if near is None else share > 0.0
-        count = int(np.floor(patches))
-        for rung, weight in ladder:
-            scale = RUNG ** (2 * rung) * GRAVITY / CELL  # U_rung^2 / sigma^2, in cells
-            if near is None:  # the near wake's own fade (`steady`), weighted as it is read
-                share += weight / total * np.clip(
-                    (BEHIND - scale * stretch * CELL) / FADE, 0.0, 1.0)
-            for k, w in ((count, 1.0 + count - patches), (count + 1, patches - count)):
-                if w <= 0.0:
-                    continue
-                table, xi0 = hull_wake(rung, k)
-                i = scale * stretch - xi0 / CELL
-                j = scale * across
-                inside = use & (i >= 0.0) & (i < table.shape[0] - 1) & (j < table.shape[1] - 1)
-                part = np.float32(weight * w * peak / k) * bilinear(table, j[inside], i[inside])
-                got[inside] += part if near is None else part * share[inside].astype(np.float32)
-        near = share
-    out[within] = got * (taper * course.draft).astype(np.float32)
-    if foam:
-        since = np.asarray(course.times)[-1] - np.interp(
-            arc - xi + 0.5 * course.length, arc_at, np.asarray(course.times))
-        for share, part in zip(shares, stern_foam(course, u_ref, xi, eta, since), strict=True):
-            share[within] = part * taper
-    return done
+                       xi / max(u[-1], SLOWEST) ** 2)
+    since = t[-1] - np.interp(arc - xi + 0.5 * course.length, arc_at, t)
+    fields = np.stack([xi, n, stretch, np.maximum(u_at, SLOWEST) ** -2.0, since], axis=-1)
+    reached = ((xi > -ahead - cell) & (xi < arc + cell) & (
+        np.abs(n) < WEDGE * np.maximum(xi, 0.0) + MARGIN * FAR * sigma + cell)).reshape(shape)
+    alive = reached.copy()
+    alive[1:] |= reached[:-1]
+    alive[:-1] |= reached[1:]
+    alive[:, 1:] |= alive[:, :-1].copy()
+    alive[:, :-1] |= alive[:, 1:].copy()
+    return fields.reshape(ny, nx, 5).astype(np.float32), alive, arc
+
+
+def sample(fields, ci, cj):
+    """The raster's fields (rows, columns, F) at fractional columns ci and rows cj,
+    bilinearly, all at once: F arrays."""
+    rows, cols, count = fields.shape
+    i0 = np.minimum(ci.astype(np.intp), cols - 2)
+    j0 = np.minimum(cj.astype(np.intp), rows - 2)
+    fi = (ci - i0).astype(np.float32)[:, None]
+    fj = (cj - j0).astype(np.float32)[:, None]
+    flat = fields.reshape(-1, count)
+    at = j0 * cols + i0
+    bottom = flat[at] * (1.0 - fi) + flat[at + 1] * fi
+    top = flat[at + cols] * (1.0 - fi) + flat[at + cols + 1] * fi
+    return (bottom * (1.0 - fj) + top * fj).T
 
 
 def stern_foam(course, u_ref, xi, eta, since):

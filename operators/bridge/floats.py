@@ -14,7 +14,7 @@ from ...shaders.nodes import TAG
 from . import scene
 
 CONSTRAINT = "Ocean Float"
-COURSE_STEP = 0.1  # s between the samples of a float's course (its wake: wake_field.py)
+COURSE_STEP = 0.2  # s between the samples of a float's course (its wake: wake_field.py)
 
 
 def refusal(obj):

@@ -133,3 +133,17 @@ def test_a_float_rides_the_waves_where_they_are_whatever_the_ocean_s_place():
     heave, _ = floating.ride(sea, 7.0, f.centre, f.heading, f.length, f.beam)
     lifted = at_origin @ [*f.origin, 1.0]  # its origin, lifted (turned about itself)
     assert lifted[2] == pytest.approx(f.origin[2] + heave - f.draft - f.keel, abs=1e-9)
+
+
+def test_floats_posed_together_are_posed_as_alone():
+    """`poses` samples every float's footprint in one call to the sea: each pose as `pose`
+    gives it alone (a buoy, a boat, a long hull; within 1e-5: the sea's float32 sums)."""
+    sea, _ = sea_and_places()
+    floats = [floating.Float(key=str(k), origin=(x, y, 0.0), centre=(x, y), heading=h,
+                             length=length, beam=beam, keel=-0.5, draft=0.3, response=0.8)
+              for k, (x, y, h, length, beam) in enumerate(
+                  [(3.0, 4.0, 0.1, 1.0, 1.0), (-20.0, 15.0, 1.2, 10.0, 3.0),
+                   (60.0, -30.0, 2.5, 100.0, 20.0)])]
+    together = floating.poses(sea, 7.0, np.eye(4), floats)
+    for f, matrix in zip(floats, together, strict=True):
+        assert matrix == pytest.approx(floating.pose(sea, 7.0, np.eye(4), f), abs=1e-5)

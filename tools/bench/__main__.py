@@ -38,6 +38,7 @@ def main(quick=False, only=None):
         report,
         scene_bench,
         storm_bench,
+        wake_bench,
     )
 
     install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
@@ -72,6 +73,7 @@ def main(quick=False, only=None):
             samples=(1, 4) if quick else (1, 4, 16, 64),
             reference_samples=16 if quick else 128)),
         ("flicker", lambda: render_bench.flicker(DOCS, frames=3 if quick else 4)),
+        ("wakes", lambda: wake_bench.wake_cost(repeats=5 if quick else 15)),
         ("storm", lambda: storm_bench.storm_cost(quick)),  # its own processes
         ("beaufort", lambda: beaufort.shoot(DOCS, quick)),  # these three start from empty files
         ("strip", lambda: storm_strip.shoot(DOCS, quick)),

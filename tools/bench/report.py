@@ -4,6 +4,7 @@ import os
 
 import numpy as np
 
+from . import wake_bench
 from .report_format import (
     Report,
     Target,
@@ -367,7 +368,7 @@ SECTIONS = (("rebuild", _rebuild), ("octaves", _octaves), ("accuracy", _accuracy
             ("scene_update", _scene_update), ("moving_objects", _moving_objects),
             ("sea", _sea), ("bake", _bake),
             ("pictures", _pictures), ("beaufort", _beaufort), ("strip", _strip),
-            ("memory", _memory), ("storm", _storm))
+            ("memory", _memory), ("storm", _storm), ("wakes", wake_bench.section))
 
 
 def write(results, docs):
