@@ -3,60 +3,43 @@ laid along its course over the past WINDOW seconds; a pure function of the cours
 time.
 
 Summing the rings of every emission (wakes.py) costs a point times an emission: too much for
-every vertex of every frame. But a pressure patch at a steady speed makes a wake that is steady
-in its own frame, and in deep water the same for every patch size once lengths are counted in
-its sigma, heights in drafts and speed as the Froude number F = U / sqrt(g sigma). So a patch's
-steady wake is summed once per Froude number (`steady`, a half-raster: it is symmetric about the
-track). A hull is a row of such patches along its waterline (`hull`): sigma a third of its
-beam, 4/3 sigma apart, so the pressure is nearly even over the hull and falls off at its bow
-and stern, whose wave systems make the V of divergent waves and the cusps; their steady wake is
-the patch's, shifted and summed (`hull_wake`). It is read for each point at its place in the
-wake: xi, how far behind the hull along its course, and eta, how far across it. Where the
-course turns the wake turns with it; where the speed changed, the waves there have the length
-of the speed then (2 pi U^2 / g): xi and eta are stretched by (U_ref / U)^2 along the course,
-summed so the phase runs on. Hulls that change speed or turn sharply get the steady wake of
-each stretch of their course, not the transients: a wake that looks right, not an exact one
-(wakes.wake_heights is).
+every vertex of every frame. A hull's steady wake (steady_wake.py) is read instead, for each
+point at its place in the wake: xi, how far behind the hull along its course, and eta, how far
+across it. Where the course turns the wake turns with it; where the speed changed, the waves
+there have the length of the speed then (2 pi U^2 / g): xi and eta are stretched by
+(U_ref / U)^2 along the course, summed so the phase runs on. Hulls that change speed or turn
+sharply get the steady wake of each stretch of their course, not the transients: a wake that
+looks right, not an exact one (wakes.wake_heights is).
 
-What is drawn is the moving hull's wake: the hydrostatic dent a hull at rest sits in is taken
-out (the hull hides it, and the float sits at its draft already), so a hull at rest has none.
-The Froude numbers are kept on a geometric ladder; a hull between two rungs reads both,
-weighted, as it does two patch counts, so its wake changes continuously with its speed. Fast
-hulls' patches are widened until their transverse waves span at most 16 sigma (F at most 1.6,
-the ladder's top): the wake's shortest waves then go with the raster's cells (`hull`)."""
+What is drawn is the moving hull's wake (a hull at rest has none). A hull between two rungs
+of the Froude ladder reads both, weighted, so its wake changes continuously with its speed."""
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from . import wakes
+from .band_limit import every_other_of, every_other_shape, fill_every_other
 from .effects import MOVING
 from .spectrum import GRAVITY
+from .steady_wake import ACROSS, AHEAD, BEHIND, CELL, FADE, FAR, PATCH, RUNG, hull, hull_wake, rungs
 from .tiles import bilinear
 
-RUNG = 1.12  # the ladder of Froude numbers: F = RUNG^i
-LADDER = (-14, 4)  # its rungs: F 0.2 to 1.57 (below 0.2 the wake fades out over 3 rungs)
-BEHIND, AHEAD, ACROSS = 120.0, 8.0, 50.0  # a patch's steady wake's extent, in sigma
-CELL = 1.0 / 3.0  # its raster's cell, in sigma (its shortest waves, 2 sigma, over 6 cells)
-PATCH = 4  # cells between a hull's patches (4/3 sigma: their sum within 1 % of even)
-MOST = 8  # patches a hull is made of at most
-FADE = 20.0  # sigma: the steady wake's far end fades out over this
-# The wake is read near the hull from its patches, and from BEHIND - FADE on (where that fades)
-# from patches FAR times as wide: a steady wake reaching FAR times as far, without the
-# shortest divergent waves (which that far behind no grid holds but one close over them)
-FAR = 2.0
-TABLE = (300.0, 150.0)  # the response table (reach, window) every rung reads (sigma 1)
 CUT = 40.0  # m/s: a course faster than this over a step was cut (a jump): it starts anew
 SLOWEST = 0.3  # m/s: the speed below which a stretch of course is taken as at rest
+COARSE = 32  # vertex spacings a wake's transverse wave spans where it is read on every
+# other row and column (`read_grid`)
 SEGMENT = 1.0  # hull lengths: the course is followed on segments about this long
 WEDGE = 0.45  # a wake reaches at most this far across its track per metre behind (Kelvin's
 # 0.35, with room for the stretch of a hull that slowed), and MARGIN far sigmas besides
 MARGIN = 8.0
 FOAM_FROUDE = (0.2, 0.5)  # the hull Froude numbers its stern's wake turns white over
 BEAMS = 1.0  # the stern foam's band, in beams (two standard deviations across)
-SPREAD = 2.0  # s: the band widens by sqrt(1 + age / SPREAD)
-ACTIVE_DECAY, RESIDUAL_DECAY = 3.0, 12.0  # s
+SPREAD = 6.0  # s: the band widens by sqrt(1 + age / SPREAD)
+# The bow wave breaks white where its crest (the wake's moving part, in drafts) rises above
+# BOW_CREST, all of it from twice that, within BOW_REACH hull lengths behind the hull's centre
+BOW_CREST, BOW_REACH = 0.4, 1.5
+ACTIVE_DECAY, RESIDUAL_DECAY = 3.0, 8.0  # s
 
 
 @dataclass(frozen=True)
@@ -99,13 +82,33 @@ def draw(result, courses, wave_scale):
             continue
         wavelength = 2.0 * np.pi * u_ref * u_ref / GRAVITY
         hold = np.clip(np.log2(wavelength / np.maximum(spacing, 1e-9)) - 1.0, 0.0, 1.0)
-        lift, fresh, old = read(c, np.stack([x, y]), foam=True)
+        lift, fresh, old = read_grid(c, x, y, spacing, wavelength)
         total += lift * hold.astype(np.float32)
         np.maximum(active, fresh, out=active)
         np.maximum(residual, old, out=residual)
     result.positions[:, 2] += total.ravel()
     result.surface = (x, y, h + total)
     return total, active, residual
+
+
+def read_grid(course, x, y, spacing, wavelength):
+    """`read` with foam at a grid's points (x, y: (rows, columns)) whose vertices lie
+    `spacing` apart: where the grid is fine enough (its spacing a COARSE-th of the wake's
+    transverse `wavelength` or less over at least a quarter of it), read on every other row
+    and column and interpolated between (band_limit.fill_every_other: within 2 % of a wave
+    COARSE spacings long), elsewhere read at every point."""
+    fine = spacing * COARSE <= wavelength
+    if fine.mean() < 0.25 or min(x.shape) < 3:
+        return read(course, np.stack([x, y]), foam=True)
+    coarse = np.empty((2, *every_other_shape(x.shape)))
+    every_other_of(np.stack([x, y]), coarse)
+    out = [fill_every_other(v, np.empty(x.shape, np.float32))
+           for v in read(course, coarse, foam=True)]
+    rest = ~fine
+    for whole, part in zip(out, read(course, np.stack([x[rest], y[rest]]), foam=True),
+                           strict=True):
+        whole[rest] = part
+    return out
 
 
 def speeds(course):
@@ -137,69 +140,6 @@ def speed_now(course, dt=0.5):
         return 0.0
     x0, y0 = np.interp(back, t, course.x), np.interp(back, t, course.y)
     return float(np.hypot(course.x[-1] - x0, course.y[-1] - y0) / (t[-1] - back))
-
-
-@lru_cache(maxsize=8)
-def steady(rung):
-    """(heights, xi0): the moving part of the steady wake of a patch of unit peak pressure
-    (in drafts) and sigma 1 at Froude number RUNG^rung, on a raster of CELL: rows
-    xi = xi0 + i CELL (behind it, from AHEAD ahead), columns eta = j CELL (across, one side)."""
-    u = RUNG**rung * np.sqrt(GRAVITY)
-    window = min(2.2 * BEHIND / u, TABLE[1])  # its transverse waves formed out to BEHIND
-    xi = np.arange(-AHEAD, BEHIND + CELL, CELL)
-    eta = np.arange(0.0, ACROSS + CELL, CELL)
-
-    def path(taus):
-        return np.stack([u * (taus - window), np.zeros_like(taus)])
-
-    moving = wakes.raster_heights(-xi, eta, window, path, 1.0, 4.0, window, TABLE).T
-    dent = np.exp(-0.5 * (xi[:, None] ** 2 + eta**2))  # at rest: -exp(-r^2 / 2)
-    fade = np.clip((BEHIND - xi) / FADE, 0.0, 1.0)[:, None] * np.clip(
-        (ACROSS - eta) / (0.2 * ACROSS), 0.0, 1.0)
-    return ((moving + dent) * fade).astype(np.float32), float(xi[0])
-
-
-@lru_cache(maxsize=16)
-def hull_wake(rung, patches):
-    """(heights, xi0) as `steady` of a row of patches PATCH cells apart, centred on xi 0, of
-    unit total peak pressure: `patches` (fractional: the two whole counts either side,
-    weighted by how near each is) sharing it evenly."""
-    one, xi0 = steady(rung)
-    low = max(int(np.floor(patches)), 1)
-    counts = [(low, 1.0 + low - patches), (low + 1, patches - low)] if patches > 1.0 else [
-        (1, 1.0)]
-    out = np.zeros((one.shape[0] + PATCH * low, one.shape[1]), np.float32)
-    for count, weight in counts:
-        if weight <= 0.0:
-            continue
-        start = PATCH * (low + 1 - count) // 2 if count == low else 0
-        for i in range(count):
-            out[start + PATCH * i:start + PATCH * i + one.shape[0]] += np.float32(
-                weight / count) * one
-    return out, xi0 - 0.5 * PATCH * low * CELL
-
-
-def hull(length, beam, u_ref, widen=1.0):
-    """(sigma, patches, peak): a hull of `length` and `beam` moving at U_ref as a row of
-    patches along its waterline: their sigma (a third of the beam, widened for a fast hull:
-    its transverse waves 2 pi U^2 / g span at most 16 sigma, and for a long one: MOST
-    patches), how many (fractional: two counts are read, weighted) and the peak pressure
-    (drafts) of each that gives them the hull's waterplane, length times beam."""
-    sigma = widen * max(beam / 3.0, 2.0 * np.pi * u_ref * u_ref / GRAVITY / 16.0,
-                        length / (PATCH * CELL * MOST), 0.02)
-    patches = max(length / (PATCH * CELL * sigma), 1.0)
-    return sigma, patches, length * beam / (2.0 * np.pi * sigma * sigma)
-
-
-def rungs(u_ref, sigma):
-    """[(rung, weight)]: the rungs either side of the Froude number of U_ref, weighted (below
-    the ladder its lowest, fading out over 3 rungs)."""
-    position = np.log(max(u_ref, 1e-6) / np.sqrt(GRAVITY * sigma)) / np.log(RUNG)
-    fade = float(np.clip((position - LADDER[0] + 3.0) / 3.0, 0.0, 1.0))
-    position = min(max(position, LADDER[0]), LADDER[1])
-    low = min(int(np.floor(position)), LADDER[1] - 1)
-    w = float(position - low)
-    return [(r, v * fade) for r, v in ((low, 1.0 - w), (low + 1, w)) if v * fade > 0.0]
 
 
 def follow(course, points, ahead):
@@ -306,7 +246,11 @@ def read(course, points, foam=False):
             kept = fade
     out[within] = got * (taper * course.draft).astype(np.float32)
     if foam:
-        for share, part in zip(shares, stern_foam(course, u_ref, xi, eta, since), strict=True):
+        parts = stern_foam(course, u_ref, xi, eta, since)
+        white = whiteness(course, u_ref)
+        bow = white * np.clip(got / BOW_CREST - 1.0, 0.0, 1.0) * (xi < BOW_REACH * course.length)
+        parts = (np.maximum(parts[0], bow), parts[1])
+        for share, part in zip(shares, parts, strict=True):
             share[within] = part * taper
     return done
 
@@ -355,17 +299,21 @@ def sample(fields, ci, cj):
     return (bottom * (1.0 - fj) + top * fj).T
 
 
+def whiteness(course, u_ref):
+    """How much of its wake a hull at U_ref breaks white: none below the hull Froude number
+    U / sqrt(g L) FOAM_FROUDE[0], all of it from FOAM_FROUDE[1]."""
+    froude = u_ref / np.sqrt(GRAVITY * course.length)
+    return float(np.clip((froude - FOAM_FROUDE[0]) / (FOAM_FROUDE[1] - FOAM_FROUDE[0]), 0, 1))
+
+
 def stern_foam(course, u_ref, xi, eta, since):
     """(active, residual) foam shares of the turbulent wake behind the stern at points `xi`
     behind the hull's centre and `eta` across its course, passed by the stern `since` s ago:
-    white behind a hull fast enough to break the water (hull Froude numbers U / sqrt(g L)
-    from FOAM_FROUDE[0], all of it from FOAM_FROUDE[1]), across a band BEAMS wide that
+    white behind a hull fast enough to break the water (`whiteness`), across a band BEAMS wide that
     spreads as the square root of its age, fresh foam decaying over ACTIVE_DECAY s into
     residual foam that decays over RESIDUAL_DECAY (Callaghan et al. 2012: a whitecap's foam
     decays over seconds, its residual longer)."""
-    froude = u_ref / np.sqrt(GRAVITY * course.length)
-    white = float(np.clip((froude - FOAM_FROUDE[0]) / (FOAM_FROUDE[1] - FOAM_FROUDE[0]),
-                          0.0, 1.0))
+    white = whiteness(course, u_ref)
     if white == 0.0:
         return np.zeros(len(xi), np.float32), np.zeros(len(xi), np.float32)
     age = np.maximum(since, 0.0)

@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 import pytest
 
-from .helpers import spectral_sea, workbench
+from .helpers import positions, spectral_sea, workbench
 
 
 @pytest.fixture
@@ -172,3 +172,66 @@ def test_a_render_of_a_frame_never_built_floats_it_there(boat, bridge, extension
     want, _ = expected(bridge, extension, ocean, obj)
     assert rendered == pytest.approx(want, abs=1e-4)
     assert np.abs(rendered - at_ten).max() > 1e-3
+
+
+def surface_at(ocean, points):
+    """The ocean mesh's height at world points (M, 2) (the mesh at the world's origin,
+    unrotated): in the triangle of the grid holding each point, barycentric."""
+    p = positions(ocean.data).astype(np.float64)
+    nx = ocean.projgrid.resolution_x
+    grid = p.reshape(-1, nx, 3)
+    a, b, c, d = (grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1])
+    triangles = np.concatenate([np.stack([a, b, c], -2).reshape(-1, 3, 3),
+                                np.stack([a, c, d], -2).reshape(-1, 3, 3)])
+    out = []
+    for q in np.asarray(points, dtype=np.float64):
+        v0, v1, v2 = triangles[:, 0, :2], triangles[:, 1, :2], triangles[:, 2, :2]
+        e1, e2, w = v1 - v0, v2 - v0, q - v0
+        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        s = (w[:, 0] * e2[:, 1] - w[:, 1] * e2[:, 0]) / det
+        t = (e1[:, 0] * w[:, 1] - e1[:, 1] * w[:, 0]) / det
+        k = np.flatnonzero((s >= -1e-9) & (t >= -1e-9) & (s + t <= 1 + 1e-9))[0]
+        z = triangles[k, :, 2]
+        out.append(z[0] + s[k] * (z[1] - z[0]) + t[k] * (z[2] - z[0]))
+    return np.array(out)
+
+
+def test_a_buoy_follows_the_mesh_a_long_hull_barely_heaves_a_boat_pitches_with_it(bridge):
+    """Beaufort 5 over 96 frames (issue 37's measures): a 0.5 m buoy of density 500 rides the
+    water the mesh shows under it (its waterline correlated 0.95 or more with the mesh's
+    height there, rms apart 5 % of Hs or less); a 100 x 20 m hull heaves at most 0.3 times as
+    much; a 10 x 3 m boat's pitch is the slope of the plane fitted to the mesh over its
+    footprint within 2 degrees."""
+    ocean = spectral_sea()
+    scene = bpy.context.scene
+    made = {}
+    for name, size, place in (("buoy", (0.5, 0.5, 0.5), (1.0, 20.0)),
+                              ("hull", (100.0, 20.0, 5.0), (0.0, 400.0)),
+                              ("boat", (10.0, 3.0, 1.5), (-2.0, 35.0))):
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=(*place, 0.0))
+        obj = bpy.context.active_object
+        obj.name, obj.scale = name, size
+        for o in bpy.context.selected_objects:
+            o.select_set(o == obj)
+        assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+        made[name] = obj
+    hs = 4.0 * bridge.scene.height_field(ocean.evaluated_get(
+        bpy.context.evaluated_depsgraph_get()).projgrid).spread[0]
+    waterline, under, hull, pitch, fitted = [], [], [], [], []
+    along = np.linspace(-4.5, 4.5, 9)
+    for frame in range(1, 97):
+        scene.frame_set(frame)
+        buoy = np.array(made["buoy"].matrix_world)
+        waterline.append(buoy[2, 3] - 0.25 + 500.0 / 1025.0 * 0.5)  # its keel, plus its draft
+        under.append(surface_at(ocean, [buoy[:2, 3]])[0])
+        hull.append(made["hull"].matrix_world[2][3])
+        boat = np.array(made["boat"].matrix_world)
+        pitch.append(np.degrees(np.arcsin(boat[2, 0] / np.linalg.norm(boat[:3, 0]))))
+        x, y = np.meshgrid(along, np.linspace(-1.33, 1.33, 9))
+        z = surface_at(ocean, np.stack([x.ravel() - 2.0, y.ravel() + 35.0], axis=1))
+        fitted.append(np.degrees(np.arctan(np.polyfit(x.ravel(), z, 1)[0])))
+    waterline, under = np.array(waterline), np.array(under)
+    assert np.corrcoef(waterline, under)[0, 1] >= 0.95
+    assert np.sqrt(np.mean((waterline - under) ** 2)) <= 0.05 * hs
+    assert np.std(hull) <= 0.3 * np.std(waterline)
+    assert np.abs(np.array(pitch) - np.array(fitted)).max() <= 2.0

@@ -78,7 +78,7 @@ def wake_cost(repeats=15):
         rows += [{"variant": k, "grid": "render 257×513" if render else "viewport 65×129",
                   **t.ms(), "ratio": t.median / alone} for k, t in times.items()]
         if not render:
-            for cache in (core.wakes.response, core.wake_field.steady, core.wake_field.hull_wake):
+            for cache in (core.wakes.response, core.steady_wake.steady, core.steady_wake.hull_wake):
                 cache.cache_clear()
             first = {}
             for name in ("sea alone", "one boat"):
