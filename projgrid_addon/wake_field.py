@@ -35,11 +35,12 @@ WEDGE = 0.45  # a wake reaches at most this far across its track per metre behin
 MARGIN = 8.0
 FOAM_FROUDE = (0.2, 0.5)  # the hull Froude numbers its stern's wake turns white over
 BEAMS = 1.0  # the stern foam's band, in beams (two standard deviations across)
-SPREAD = 6.0  # s: the band widens by sqrt(1 + age / SPREAD)
+SPREAD = 3.0  # s: the band widens by sqrt(1 + age / SPREAD)
 # The bow wave breaks white where its crest (the wake's moving part, in drafts) rises above
 # BOW_CREST, all of it from twice that, within BOW_REACH hull lengths behind the hull's centre
-BOW_CREST, BOW_REACH = 0.4, 1.5
-ACTIVE_DECAY, RESIDUAL_DECAY = 3.0, 8.0  # s
+BOW_CREST, BOW_REACH = 0.35, 1.0
+BOW_ANGLE = 0.3  # and beside the track: further out than this per metre behind the bow
+ACTIVE_DECAY, RESIDUAL_DECAY = 2.5, 6.0  # s
 
 
 @dataclass(frozen=True)
@@ -248,7 +249,10 @@ def read(course, points, foam=False):
     if foam:
         parts = stern_foam(course, u_ref, xi, eta, since)
         white = whiteness(course, u_ref)
-        bow = white * np.clip(got / BOW_CREST - 1.0, 0.0, 1.0) * (xi < BOW_REACH * course.length)
+        beside = np.abs(eta) > 0.5 * course.beam + BOW_ANGLE * np.maximum(
+            xi + 0.5 * course.length, 0.0)  # its divergent crests, not the transverse ones
+        bow = white * np.clip(got / BOW_CREST - 1.0, 0.0, 1.0) * (
+            xi < BOW_REACH * course.length) * beside
         parts = (np.maximum(parts[0], bow), parts[1])
         for share, part in zip(shares, parts, strict=True):
             share[within] = part * taper

@@ -87,6 +87,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Facets Sharp Log", "NodeSocketFloat", 1.386),
     ("Facets Mean Log", "NodeSocketFloat", 6.931),
     ("Sun Reach", "NodeSocketFloat", 100.0),
+    ("Body Reach", "NodeSocketFloat", 1e6),  # m: as far as the water body is drawn (`body_seen`)
     ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 0.0)),  # toward the sun lamp; none: 0
     ("Layer Top Log", "NodeSocketFloat", -100.0),
     ("Layer Density", "NodeSocketFloat", 0.0),
@@ -99,6 +100,7 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     *((f"Layer Bottom Log {b}", "NodeSocketFloat", -1.0) for b in range(1, LAYER_BANDS + 1)),
 )
 DEFAULTS = {name: default for name, _, default in INPUTS}
+BODY_FADE = 0.25  # of Body Reach: the water body fades out over it (`body_seen`)
 
 
 def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, layer=()):
@@ -134,6 +136,15 @@ def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, l
         band = layer[b - 1] if b <= len(layer) else (DEFAULTS[n] for n in names)
         out.update(zip(names, (float(v) for v in band), strict=True))
     return {name: float(v) for name, v in out.items()}
+
+
+def body_seen(m, i, distance):
+    """How much of the water body (refraction: the surface transparent, the body's volume
+    tinting what lies below) a pixel `distance` m from the camera sees: all of it within
+    1 - BODY_FADE of Body Reach (as far as EEVEE draws the body's volume), none from Body
+    Reach on, where the water's own colour stands in (not the world under a volume that is
+    not drawn: from high up, a grey void beyond it)."""
+    return m.clamp((i["Body Reach"] - distance) / (i["Body Reach"] * BODY_FADE))
 
 
 def footprint(m, i, distance, cos_view):

@@ -72,7 +72,7 @@ SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 35  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 36  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -126,9 +126,9 @@ def _build(group):
     lod = g.value(g.node("ShaderNodeAttribute", attribute_name=LOD_ATTRIBUTE).outputs["Fac"])
 
     # The shortest wave a pixel shows here, against the mean sea plane.
+    distance = g.value(g.node("ShaderNodeCameraData").outputs["View Distance"])
     footprint, log_cos = model.footprint(
-        g, i, g.value(g.node("ShaderNodeCameraData").outputs["View Distance"]),
-        g.value(g.node("ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]))
+        g, i, distance, g.value(g.node("ShaderNodeSeparateXYZ", {0: geo["Incoming"]}).outputs["Z"]))
 
     position = g.node("ShaderNodeSeparateXYZ", {0: geo["Position"]}).outputs
 
@@ -212,7 +212,8 @@ def _build(group):
     albedo = g.vector("MINIMUM", g.vector("MULTIPLY", i["Water Colour"], tuple(
         math.pi / e for e in DAYLIGHT)), (1.0, 1.0, 1.0))  # no more light than it receives
     colour = g.node("ShaderNodeBsdfDiffuse", {"Color": albedo, "Normal": normal})
-    body = g.node("ShaderNodeMixShader", {0: 1.0, 1: colour.outputs[0],
+    body = g.node("ShaderNodeMixShader", {0: model.body_seen(g, i, distance),
+                                          1: colour.outputs[0],
                                           2: g.node("ShaderNodeBsdfTransparent").outputs[0]})
     body.name = "Refraction"
     window = g.node("ShaderNodeBsdfRefraction", {"Color": (1.0, 1.0, 1.0, 1.0),

@@ -157,7 +157,8 @@ def material_of(mesh):
 
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
-           foam=None, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3):
+           foam=None, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3,
+           body_reach=None):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
@@ -167,7 +168,8 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     no foam), its shares shown where a pixel outgrows a whitecap; the slope layer's bands
     ((level, top log, bottom log) each; none: no layer); the unit vector toward the sun lamp
     (None: no sun, no glint); the gusts' drift along X, along Y and its path (m), each (per
-    frame, offset) for a driver like the times'."""
+    frame, offset) for a driver like the times'; how far the water body is drawn (m; None:
+    the default)."""
     node = mat.node_tree.nodes.get(water.GROUP)
     if node is None or node.type != "GROUP":
         return
@@ -184,6 +186,8 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
     for name, colour in (("Water Colour", water_colour), ("Foam Colour", foam_colour)):
         if name in inputs:
             assign(inputs[name], default_value=(*colour, 1.0))
+    if body_reach is not None and "Body Reach" in inputs:
+        assign(inputs["Body Reach"], default_value=float(body_reach))
     if "Sun Direction" in inputs:
         assign(inputs["Sun Direction"], default_value=tuple(
             float(v) for v in (sun_direction if sun_direction is not None else (0.0, 0.0, 0.0))))
