@@ -26,10 +26,14 @@ from .steady_wake import ACROSS, AHEAD, BEHIND, CELL, FADE, FAR, PATCH, RUNG, hu
 from .tiles import bilinear
 
 CUT = 40.0  # m/s: a course faster than this over a step was cut (a jump): it starts anew
+JERK = 20.0  # m/s^2 (2 g): no hull speeds up and slows down again so fast: such a step jumped
 SLOWEST = 0.3  # m/s: the speed below which a stretch of course is taken as at rest
 COARSE = 32  # vertex spacings a wake's transverse wave spans where it is read on every
 # other row and column (`read_grid`)
-SEGMENT = 1.0  # hull lengths: the course is followed on segments about this long
+SEGMENT = 1.0  # hull lengths: the course is followed on segments about this long, and its
+# places found on a raster of cells as wide; at most MOST_SEGMENTS segments, MOST_CELLS cells
+# across the course's extent (a small hull's long course)
+MOST_SEGMENTS, MOST_CELLS = 64, 96
 WEDGE = 0.45  # a wake reaches at most this far across its track per metre behind (Kelvin's
 # 0.35, with room for the stretch of a hull that slowed), and MARGIN far sigmas besides
 MARGIN = 8.0
@@ -60,9 +64,14 @@ class Course:
 
 def course(name, times, x, y, draft, length, beam):
     """The Course of a hull whose animation placed it at (x, y) at `times` (ascending), from
-    after the last cut in it (a step faster than CUT: the hull jumped)."""
+    after the last cut in it: a step faster than CUT, or one faster than the steps either
+    side by more than JERK allows over it (the hull jumped: a cut in its path, keys of
+    constant interpolation)."""
     t, x, y = (np.asarray(v, dtype=np.float64) for v in (times, x, y))
-    jumps = np.flatnonzero(np.hypot(np.diff(x), np.diff(y)) > CUT * np.maximum(np.diff(t), 0))
+    dt = np.maximum(np.diff(t), 1e-9)
+    u = np.hypot(np.diff(x), np.diff(y)) / dt
+    before, after = np.r_[u[:1], u[:-1]], np.r_[u[1:], u[-1:]]
+    jumps = np.flatnonzero((u > CUT) | ((u - before > JERK * dt) & (u - after > JERK * dt)))
     start = int(jumps[-1]) + 1 if len(jumps) else 0
     return Course(str(name), tuple(t[start:]), tuple(x[start:]), tuple(y[start:]),
                   max(float(draft), 0.0), max(float(length), 0.05), max(float(beam), 0.05))
@@ -72,19 +81,19 @@ def draw(result, courses, wave_scale):
     """Add the wakes of `courses` to the grid of `result` (projected_grid.GridResult), to its
     vertices' heights and its surface, where the grid holds them: each wake whole where its
     transverse waves (2 pi U_ref^2 / g) span four vertex spacings or more, faded out until
-    two (the band limit, band_limit.py). Returns (heights added, active foam, residual foam),
-    (ny, nx) float32 each (the foams the largest over the wakes)."""
+    two (the band limit, band_limit.py: a vertex's spacing is wave_scale / 2^(lod + 1)).
+    Returns (heights added, active foam, residual foam), (ny, nx) float32 each (the foams the
+    largest over the wakes)."""
     x, y, h = result.surface
-    spacing = wave_scale / 2.0 ** (result.lod.reshape(h.shape) + 1.0)
+    lod = result.lod.reshape(h.shape)
     total, active, residual = (np.zeros(h.shape, np.float32) for _ in range(3))
     for c in courses:
         _, u_ref = speeds(c)
         if u_ref < MOVING:
             continue
-        wavelength = 2.0 * np.pi * u_ref * u_ref / GRAVITY
-        hold = np.clip(np.log2(wavelength / np.maximum(spacing, 1e-9)) - 1.0, 0.0, 1.0)
-        lift, fresh, old = read_grid(c, x, y, spacing, wavelength)
-        total += lift * hold.astype(np.float32)
+        waves = np.log2(2.0 * np.pi * u_ref * u_ref / GRAVITY / wave_scale)  # in wave scales
+        lift, fresh, old = read_grid(c, x, y, lod, waves)
+        total += lift * np.clip(lod + np.float32(waves), 0.0, 1.0)
         np.maximum(active, fresh, out=active)
         np.maximum(residual, old, out=residual)
     result.positions[:, 2] += total.ravel()
@@ -92,17 +101,19 @@ def draw(result, courses, wave_scale):
     return total, active, residual
 
 
-def read_grid(course, x, y, spacing, wavelength):
-    """`read` with foam at a grid's points (x, y: (rows, columns)) whose vertices lie
-    `spacing` apart: where the grid is fine enough (its spacing a COARSE-th of the wake's
-    transverse `wavelength` or less over at least a quarter of it), read on every other row
-    and column and interpolated between (band_limit.fill_every_other: within 2 % of a wave
-    COARSE spacings long), elsewhere read at every point."""
-    fine = spacing * COARSE <= wavelength
+def read_grid(course, x, y, lod, waves):
+    """`read` with foam at a grid's points (x, y: (rows, columns)) of level of detail `lod`
+    (band_limit.py): where the grid is fine enough (its spacing a COARSE-th of the wake's
+    transverse wavelength, 2^`waves` wave scales, or less over at least a quarter of it),
+    read on every other row and column and interpolated between
+    (band_limit.fill_every_other: within 2 % of a wave COARSE spacings long), elsewhere read
+    at every point."""
+    fine = lod >= np.float32(np.log2(COARSE) - 1.0 - waves)
     if fine.mean() < 0.25 or min(x.shape) < 3:
         return read(course, np.stack([x, y]), foam=True)
     coarse = np.empty((2, *every_other_shape(x.shape)))
-    every_other_of(np.stack([x, y]), coarse)
+    every_other_of(x, coarse[0])
+    every_other_of(y, coarse[1])
     out = [fill_every_other(v, np.empty(x.shape, np.float32))
            for v in read(course, coarse, foam=True)]
     rest = ~fine
@@ -153,7 +164,8 @@ def follow(course, points, ahead):
     arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=1)))])
     # on segments about SEGMENT hull lengths long, the newest sample kept, and one `ahead` m on
     keep = np.unique(np.concatenate([np.searchsorted(
-        arc, np.arange(0.0, arc[-1], SEGMENT * course.length)), [len(arc) - 1]]))
+        arc, np.arange(0.0, arc[-1], max(SEGMENT * course.length, arc[-1] / MOST_SEGMENTS))),
+        [len(arc) - 1]]))
     a, arc_k = xy[:, keep], arc[keep]
     heading = a[:, -1] - a[:, -2] if a.shape[1] > 1 else np.array([1.0, 0.0])
     heading = heading / max(np.hypot(*heading), 1e-9)
@@ -202,7 +214,8 @@ def read(course, points, foam=False):
     # how far across the wake reaches: ACROSS far sigmas where the hull went fastest; ahead
     reach = ACROSS * FAR * sigma * min((u.max() / u_ref) ** 2, 4.0) * RUNG
     ahead = (AHEAD + 0.5 * PATCH * CELL * (course.length / (PATCH * CELL * sigma) + 2.0)) * sigma
-    cell = SEGMENT * course.length
+    cell = max(SEGMENT * course.length, (np.ptp(course.x) + np.ptp(course.y) + 2.0 * reach)
+               / MOST_CELLS)
     lo = np.array([min(course.x), min(course.y)]) - reach - ahead - 2.0 * cell
     hi = np.array([max(course.x), max(course.y)]) + reach + ahead + 2.0 * cell
     within = np.flatnonzero((flat[0] > lo[0]) & (flat[0] < hi[0]) & (flat[1] > lo[1])
@@ -261,7 +274,7 @@ def read(course, points, foam=False):
 
 def places(course, u, lo, cell, shape, ahead, sigma):
     """The course's places on the raster of cells `cell` wide from `lo` of (rows, columns)
-    `shape`: (fields, alive, arc): fields (rows, columns, 5) of xi, n (`follow`), the stretch
+    `shape`: (fields, alive, arc): fields (5, rows, columns) of xi, n (`follow`), the stretch
     (arc / U^2 summed from the hull back, s^2 / m; ahead, xi / U_now^2), 1 / U^2 where the
     point's place was passed and the time since the stern passed it (s); which cells (and
     their neighbours) the wake may reach (ahead of the hull to the course's start, within
@@ -277,7 +290,7 @@ def places(course, u, lo, cell, shape, ahead, sigma):
     stretch = np.where(xi > 0.0, np.interp(arc - xi, arc_at, behind),
                        xi / max(u[-1], SLOWEST) ** 2)
     since = t[-1] - np.interp(arc - xi + 0.5 * course.length, arc_at, t)
-    fields = np.stack([xi, n, stretch, np.maximum(u_at, SLOWEST) ** -2.0, since], axis=-1)
+    fields = np.stack([xi, n, stretch, np.maximum(u_at, SLOWEST) ** -2.0, since])
     reached = ((xi > -ahead - cell) & (xi < arc + cell) & (
         np.abs(n) < WEDGE * np.maximum(xi, 0.0) + MARGIN * FAR * sigma + cell)).reshape(shape)
     alive = reached.copy()
@@ -285,22 +298,27 @@ def places(course, u, lo, cell, shape, ahead, sigma):
     alive[:-1] |= reached[1:]
     alive[:, 1:] |= alive[:, :-1].copy()
     alive[:, :-1] |= alive[:, 1:].copy()
-    return fields.reshape(ny, nx, 5).astype(np.float32), alive, arc
+    return fields.reshape(5, ny, nx).astype(np.float32), alive, arc
 
 
 def sample(fields, ci, cj):
-    """The raster's fields (rows, columns, F) at fractional columns ci and rows cj,
-    bilinearly, all at once: F arrays."""
-    rows, cols, count = fields.shape
+    """The raster's fields (F, rows, columns) at fractional columns ci and rows cj,
+    bilinearly, the corners and weights found once for all: F arrays."""
+    count, rows, cols = fields.shape
     i0 = np.minimum(ci.astype(np.intp), cols - 2)
     j0 = np.minimum(cj.astype(np.intp), rows - 2)
-    fi = (ci - i0).astype(np.float32)[:, None]
-    fj = (cj - j0).astype(np.float32)[:, None]
-    flat = fields.reshape(-1, count)
+    fi = (ci - i0).astype(np.float32)
+    fj = (cj - j0).astype(np.float32)
     at = j0 * cols + i0
-    bottom = flat[at] * (1.0 - fi) + flat[at + 1] * fi
-    top = flat[at + cols] * (1.0 - fi) + flat[at + cols + 1] * fi
-    return (bottom * (1.0 - fj) + top * fj).T
+    weights = [(at, (1.0 - fi) * (1.0 - fj)), (at + 1, fi * (1.0 - fj)),
+               (at + cols, (1.0 - fi) * fj), (at + cols + 1, fi * fj)]
+    out = []
+    for field in fields.reshape(count, -1):
+        value = field[at] * weights[0][1]
+        for corner, weight in weights[1:]:
+            value += field[corner] * weight
+        out.append(value)
+    return out
 
 
 def whiteness(course, u_ref):

@@ -110,7 +110,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     size = shot.render_size(the_scene)
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
     riding = floats.gather(app, the_scene, depsgraph, t, shot.seconds_per_frame(the_scene),
-                           courses=s.wakes != "OFF")
+                           near=tuple(cam.position[:2]) if s.wakes != "OFF" else None)
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
            sky_overcast, facts.key(), dolly, riding)

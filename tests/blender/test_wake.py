@@ -58,7 +58,7 @@ def test_a_moving_float_leaves_its_wake_in_the_mesh(boat, bridge, extension):
     app = bridge.scene.appearances(scene, only=ocean)[0]
     (riding,) = bridge.floats.gather(app, scene, bpy.context.evaluated_depsgraph_get(),
                                      bridge.shot.scene_time(scene),
-                                     bridge.shot.seconds_per_frame(scene), courses=True)
+                                     bridge.shot.seconds_per_frame(scene), near=(0.0, 0.0))
     course = core.wake_field.course(riding.name, *riding.course, riding.draft, riding.length,
                                     riding.beam)
     assert course.x[-1] == pytest.approx(riding.centre[0]) and len(course.times) > 150
@@ -117,3 +117,47 @@ def test_the_bake_keeps_the_wake(boat, bridge, tmp_path):
     scene.frame_set(FRAME)
     played = ocean.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     assert np.allclose(positions(played), live, rtol=1e-6, atol=1e-5)
+
+
+def test_the_nearest_floats_leave_wakes_and_a_stepping_course_none(boat, bridge):
+    """Of 20 floats keyed across the water, the wakes of the MOST_WAKES nearest the camera
+    are drawn (their courses read; a thousand floats cost no more); a float keyed with
+    constant interpolation jumps from key to key: its course starts at its last jump, so it
+    leaves no wake (and nothing fails)."""
+    scene, ocean, obj = boat
+    obj.animation_data_clear()
+    obj.location.x = 5000.0  # out of the way: the nearest are the 20
+    ocean.projgrid.wakes = "OFF"  # (while they are made: each change rebuilds the frame)
+    for i in range(20):
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=(-60.0, 30.0 + 12.0 * i, 0.0))
+        other = bpy.context.active_object
+        other.keyframe_insert("location", frame=1)
+        other.location.x += SPEED * 40.0
+        other.keyframe_insert("location", frame=1 + 40 * scene.render.fps)
+        for o in bpy.context.selected_objects:
+            o.select_set(o == other)
+        assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    ocean.projgrid.wakes = "AUTO"
+    scene.frame_set(FRAME)
+    app = bridge.scene.appearances(scene, only=ocean)[0]
+    riding = bridge.floats.gather(app, scene, bpy.context.evaluated_depsgraph_get(),
+                                  bridge.shot.scene_time(scene),
+                                  bridge.shot.seconds_per_frame(scene), near=(0.0, 0.0))
+    with_course = sorted(f.centre[1] for f in riding if f.course)
+    assert len(riding) == 21 and len(with_course) == bridge.floats.MOST_WAKES
+    assert max(with_course) < min(f.centre[1] for f in riding if not f.course and f.name
+                                  != obj.name)
+    assert bridge.state.RUNTIME.peek(ocean).effects["wakes"][0]
+    for o in [o for o in scene.objects if o.name.startswith("Cube.") and o.type == "MESH"]:
+        bridge.floats.unfloat_object(o)
+        bpy.data.objects.remove(o)
+    obj.location.x = 0.0
+    obj.keyframe_insert("location", frame=1)
+    obj.location.x += 5.0
+    obj.keyframe_insert("location", frame=FRAME - 12)
+    for curve in bridge.scene.bag_curves(obj):
+        for key in curve.keyframe_points:
+            key.interpolation = "CONSTANT"
+    scene.frame_set(FRAME)
+    on, reason = bridge.state.RUNTIME.peek(ocean).effects["wakes"]
+    assert not on and "faster than" in reason

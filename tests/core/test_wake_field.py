@@ -152,6 +152,10 @@ def test_a_hull_at_rest_makes_none_and_a_jump_starts_its_course_anew():
     assert np.abs(wake_field.heights(cut, before)).max() < 1e-6
     after = xy + np.array([[[5.0 * T + 190.0]], [[0.0]]])
     assert np.abs(wake_field.heights(cut, after)).max() > 0.1
+    # constant interpolation: 5 m a second, in one step each (25 m/s for 0.2 s)
+    steps = 5.0 * np.floor(np.round(times, 6))
+    stepping = wake_field.course("k", times, steps, np.zeros_like(steps), 1.0, 10.0, 3.0)
+    assert not wake_field.heights(stepping, xy + np.array([[[steps[-1]]], [[0.0]]])).any()
 
 
 def test_the_grid_holds_the_wake_where_its_vertices_resolve_it():
@@ -182,7 +186,8 @@ def test_a_fine_grid_reads_the_wake_on_every_other_row_and_column():
     wavelength = 2.0 * np.pi * 25.0 / G
     x, y = np.meshgrid(np.arange(200.0, 300.0, 0.2), np.arange(-30.0, 30.0, 0.2))
     spacing = np.where(x < 280.0, wavelength / (2.0 * wake_field.COARSE), wavelength)
-    got = wake_field.read_grid(course, x, y, spacing, wavelength)
+    lod = np.log2(100.0 / (2.0 * spacing)).astype(np.float32)  # wave scale 100 m
+    got = wake_field.read_grid(course, x, y, lod, np.log2(wavelength / 100.0))
     want = wake_field.read(course, np.stack([x, y]), foam=True)
     for g, w in zip(got, want, strict=True):
         assert np.abs(g - w).max() <= 0.03 * np.abs(w).max()
