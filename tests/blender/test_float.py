@@ -235,3 +235,41 @@ def test_a_buoy_follows_the_mesh_a_long_hull_barely_heaves_a_boat_pitches_with_i
     assert np.sqrt(np.mean((waterline - under) ** 2)) <= 0.05 * hs
     assert np.std(hull) <= 0.3 * np.std(waterline)
     assert np.abs(np.array(pitch) - np.array(fitted)).max() <= 2.0
+
+
+def test_a_library_override_floats_and_leaves_its_wake(bridge, extension, tmp_path):
+    """A boat linked from another file, made a library override (what Float asks of a
+    linked object): Float Selected rides it on the sea (the core's pose; our constraint on
+    the override, nothing written to the library) and its keys, from the library, give its
+    wake."""
+    boat = bpy.data.objects.new("Boat", bpy.data.meshes.new("Boat"))
+    bpy.context.scene.collection.objects.link(boat)
+    import bmesh
+
+    shape = bmesh.new()
+    bmesh.ops.create_cube(shape, size=1.0)
+    shape.to_mesh(boat.data)
+    shape.free()
+    boat.scale, boat.location = (8.0, 3.0, 1.5), (-80.0, 30.0, 0.0)
+    boat.keyframe_insert("location", frame=1)
+    boat.location.x += 200.0
+    boat.keyframe_insert("location", frame=1 + 40 * 24)
+    library = str(tmp_path / "boat.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=library)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    ocean = spectral_sea()
+    with bpy.data.libraries.load(library, link=True) as (_, dst):
+        dst.objects = ["Boat"]
+    bpy.context.scene.collection.objects.link(dst.objects[0])
+    obj = dst.objects[0].override_create(remap_local_usages=True)
+    bpy.context.view_layer.update()
+    for o in bpy.context.scene.objects:
+        o.select_set(o == obj)
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.projgrid.float_selected() == {"FINISHED"}
+    bpy.context.scene.frame_set(24 * 16)
+    want, _ = expected(bridge, extension, ocean, obj)
+    assert np.array(obj.matrix_world) == pytest.approx(want, abs=1e-4)
+    assert dst.objects[0].constraints.keys() == [] and not dst.objects[0].is_library_indirect
+    on, reason = bridge.state.RUNTIME.peek(ocean).effects["wakes"]
+    assert on and obj.name in reason

@@ -161,3 +161,15 @@ def test_the_nearest_floats_leave_wakes_and_a_stepping_course_none(boat, bridge)
     scene.frame_set(FRAME)
     on, reason = bridge.state.RUNTIME.peek(ocean).effects["wakes"]
     assert not on and "faster than" in reason
+
+
+def test_a_wake_adds_to_the_noise_sea_too(boat, bridge):
+    """On the thesis's noise sea (the other height source) the wake adds to the mesh alike:
+    heights 0.1 m or more behind the boat, none ahead of it."""
+    scene, ocean, _ = boat
+    ocean.projgrid.height_source = "PERLIN"
+    bare = mesh_with(scene, ocean, "OFF")
+    drawn = mesh_with(scene, ocean, "AUTO")
+    lift = drawn[:, 2] - bare[:, 2]
+    behind = (bare[:, 0] < -10.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
+    assert np.abs(lift[behind]).max() > 0.1 and not lift[bare[:, 0] > 60.0].any()
