@@ -178,20 +178,21 @@ def surface_at(ocean, points):
     """The ocean mesh's height at world points (M, 2) (the mesh at the world's origin,
     unrotated): in the triangle of the grid holding each point, barycentric."""
     p = positions(ocean.data).astype(np.float64)
-    nx = ocean.projgrid.resolution_x
-    grid = p.reshape(-1, nx, 3)
+    grid = p.reshape(-1, ocean.projgrid.resolution_x, 3)
     a, b, c, d = (grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1])
     triangles = np.concatenate([np.stack([a, b, c], -2).reshape(-1, 3, 3),
                                 np.stack([a, c, d], -2).reshape(-1, 3, 3)])
+    lo, hi = triangles[:, :, :2].min(axis=1), triangles[:, :, :2].max(axis=1)
     out = []
     for q in np.asarray(points, dtype=np.float64):
-        v0, v1, v2 = triangles[:, 0, :2], triangles[:, 1, :2], triangles[:, 2, :2]
+        near = triangles[np.flatnonzero(((lo <= q) & (q <= hi)).all(axis=1))]
+        v0, v1, v2 = near[:, 0, :2], near[:, 1, :2], near[:, 2, :2]
         e1, e2, w = v1 - v0, v2 - v0, q - v0
         det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
         s = (w[:, 0] * e2[:, 1] - w[:, 1] * e2[:, 0]) / det
         t = (e1[:, 0] * w[:, 1] - e1[:, 1] * w[:, 0]) / det
         k = np.flatnonzero((s >= -1e-9) & (t >= -1e-9) & (s + t <= 1 + 1e-9))[0]
-        z = triangles[k, :, 2]
+        z = near[k, :, 2]
         out.append(z[0] + s[k] * (z[1] - z[0]) + t[k] * (z[2] - z[0]))
     return np.array(out)
 
