@@ -133,10 +133,14 @@ def _auto(facts):
     moving = [SceneObject(name, 0.0, 0.0, False) for name, _, rms in facts.movers
               if rms >= MOVING]
     fastest = max((now for _, now, _ in facts.movers), default=0.0)
+    if not moving:
+        wakes = (False, f"nothing on the water moves faster than {MOVING:g} m/s")
+    elif fastest >= MOVING:
+        wakes = (True, f"{_names(moving)} moves on the water (fastest now {fastest:.2g} m/s)")
+    else:
+        wakes = (True, f"{_names(moving)} moved on the water: its wake is still there")
     return {
-        "wakes": ((True, f"{_names(moving)} moves on the water (fastest now {fastest:.2g} m/s)")
-                  if moving else (False, f"nothing on the water moves faster than {MOVING:g} "
-                                  "m/s")),
+        "wakes": wakes,
         "foam": (cover >= FOAM_MIN_COVERAGE,
                  f"wind {facts.wind_speed:.3g} m/s whitecaps {cover:.2%} of the sea"),
         "contact_foam": ((True, f"{_names(crossing)} crosses the surface in view, {reach}")

@@ -11,7 +11,7 @@ transverse waves span at most 16 sigma (F at most 1.6, the ladder's top): the wa
 shortest waves then go with the raster's cells. The hydrostatic dent a hull at rest sits in
 is taken out: what is kept is the moving hull's wake."""
 
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 
@@ -32,7 +32,7 @@ FAR = 2.0
 TABLE = (300.0, 150.0)  # the response table (reach, window) every rung reads (sigma 1)
 
 
-@lru_cache(maxsize=8)
+@cache  # at most the ladder's 19 rungs, 4.4 MB
 def steady(rung):
     """(heights, xi0): the moving part of the steady wake of a patch of unit peak pressure
     (in drafts) and sigma 1 at Froude number RUNG^rung, on a raster of CELL: rows
@@ -52,7 +52,7 @@ def steady(rung):
     return ((moving + dent) * fade).astype(np.float32), float(xi[0])
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=64)
 def hull_wake(rung, patches):
     """(heights, xi0) as `steady` of a row of patches PATCH cells apart, centred on xi 0, of
     unit total peak pressure: `patches` (fractional: the two whole counts either side,

@@ -27,6 +27,7 @@ from .tiles import bilinear
 
 CUT = 40.0  # m/s: a course faster than this over a step was cut (a jump): it starts anew
 JERK = 20.0  # m/s^2 (2 g): no hull speeds up and slows down again so fast: such a step jumped
+SPIKE = 0.2  # s: a step is judged over this at least (a short last step's speed is noisy)
 SLOWEST = 0.3  # m/s: the speed below which a stretch of course is taken as at rest
 COARSE = 32  # vertex spacings a wake's transverse wave spans where it is read on every
 # other row and column (`read_grid`)
@@ -34,6 +35,7 @@ SEGMENT = 1.0  # hull lengths: the course is followed on segments about this lon
 # places found on a raster of cells as wide; at most MOST_SEGMENTS segments, MOST_CELLS cells
 # across the course's extent (a small hull's long course)
 MOST_SEGMENTS, MOST_CELLS = 64, 96
+KNOT = 0.1  # s: the course's knots lie on a lattice of this times a power of two
 WEDGE = 0.45  # a wake reaches at most this far across its track per metre behind (Kelvin's
 # 0.35, with room for the stretch of a hull that slowed), and MARGIN far sigmas besides
 MARGIN = 8.0
@@ -70,8 +72,10 @@ def course(name, times, x, y, draft, length, beam):
     t, x, y = (np.asarray(v, dtype=np.float64) for v in (times, x, y))
     dt = np.maximum(np.diff(t), 1e-9)
     u = np.hypot(np.diff(x), np.diff(y)) / dt
-    before, after = np.r_[u[:1], u[:-1]], np.r_[u[1:], u[-1:]]
-    jumps = np.flatnonzero((u > CUT) | ((u - before > JERK * dt) & (u - after > JERK * dt)))
+    # each step against its neighbours (the first and last against their one neighbour)
+    before, after = np.r_[u[1:2], u[:-1]], np.r_[u[1:], u[-2:-1]]
+    limit = JERK * np.maximum(dt, SPIKE)
+    jumps = np.flatnonzero((u > CUT) | ((u - before > limit) & (u - after > limit)))
     start = int(jumps[-1]) + 1 if len(jumps) else 0
     return Course(str(name), tuple(t[start:]), tuple(x[start:]), tuple(y[start:]),
                   max(float(draft), 0.0), max(float(length), 0.05), max(float(beam), 0.05))
@@ -80,7 +84,8 @@ def course(name, times, x, y, draft, length, beam):
 def draw(result, courses, wave_scale):
     """Add the wakes of `courses` to the grid of `result` (projected_grid.GridResult), to its
     vertices' heights and its surface, where the grid holds them: each wake whole where its
-    transverse waves (2 pi U_ref^2 / g) span four vertex spacings or more, faded out until
+    transverse waves (2 pi U_ref^2 / g, `reference_speed`) span four vertex spacings or more,
+    faded out until
     two (the band limit, band_limit.py: a vertex's spacing is wave_scale / 2^(lod + 1)).
     Returns (heights added, active foam, residual foam), (ny, nx) float32 each (the foams the
     largest over the wakes)."""
@@ -88,9 +93,10 @@ def draw(result, courses, wave_scale):
     lod = result.lod.reshape(h.shape)
     total, active, residual = (np.zeros(h.shape, np.float32) for _ in range(3))
     for c in courses:
-        _, u_ref = speeds(c)
-        if u_ref < MOVING:
+        _, rms = speeds(c)
+        if rms < MOVING:
             continue
+        u_ref = reference_speed(c, rms)  # the speed `read` draws the wake for
         waves = np.log2(2.0 * np.pi * u_ref * u_ref / GRAVITY / wave_scale)  # in wave scales
         lift, fresh, old = read_grid(c, x, y, lod, waves)
         total += lift * np.clip(lod + np.float32(waves), 0.0, 1.0)
@@ -109,7 +115,7 @@ def read_grid(course, x, y, lod, waves):
     (band_limit.fill_every_other: within 2 % of a wave COARSE spacings long), elsewhere read
     at every point."""
     fine = lod >= np.float32(np.log2(COARSE) - 1.0 - waves)
-    if fine.mean() < 0.25 or min(x.shape) < 3:
+    if x.ndim != 2 or min(x.shape) < 3 or fine.mean() < 0.25:
         return read(course, np.stack([x, y]), foam=True)
     coarse = np.empty((2, *every_other_shape(x.shape)))
     every_other_of(x, coarse[0])
@@ -162,16 +168,21 @@ def follow(course, points, ahead):
     xy = np.stack([np.asarray(course.x, dtype=np.float64), np.asarray(course.y, np.float64)])
     u, _ = speeds(course)
     arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=1)))])
-    # on segments about SEGMENT hull lengths long, the newest sample kept, and one `ahead` m on
-    keep = np.unique(np.concatenate([np.searchsorted(
-        arc, np.arange(0.0, arc[-1], max(SEGMENT * course.length, arc[-1] / MOST_SEGMENTS))),
-        [len(arc) - 1]]))
+    # on segments about SEGMENT hull lengths long, their knots at times on an absolute lattice
+    # (the same as the window slides on), the oldest and newest samples kept, and one `ahead` m
+    # on
+    t = np.asarray(course.times, dtype=np.float64)
+    span = max(t[-1] - t[0], 1e-9)
+    fastest = max(float(u.max()) if len(u) else 0.0, SLOWEST)
+    period = KNOT * 2.0 ** np.round(np.log2(max(
+        SEGMENT * course.length / fastest, span / MOST_SEGMENTS, KNOT) / KNOT))
+    knots = np.flatnonzero(np.abs(t / period - np.round(t / period)) * period < 1e-6)
+    keep = np.unique(np.concatenate([[0], knots, [len(arc) - 1]]))
     a, arc_k = xy[:, keep], arc[keep]
     heading = a[:, -1] - a[:, -2] if a.shape[1] > 1 else np.array([1.0, 0.0])
     heading = heading / max(np.hypot(*heading), 1e-9)
-    on = ahead
-    a = np.concatenate([a, (a[:, -1] + heading * on)[:, None]], axis=1)
-    arc_k = np.append(arc_k, arc[-1] + on)
+    a = np.concatenate([a, (a[:, -1] + heading * ahead)[:, None]], axis=1)
+    arc_k = np.append(arc_k, arc[-1] + ahead)
     start, seg = a[:, :-1, None], np.diff(a, axis=1)[:, :, None]
     length2 = np.maximum((seg * seg).sum(axis=0), 1e-12)
     p = np.asarray(points, dtype=np.float64)[:, None, :]  # (2, segments, points)
@@ -211,11 +222,12 @@ def read(course, points, foam=False):
         return done
     u_ref = reference_speed(course, rms)
     sigma = hull(course.length, course.beam, u_ref)[0]
-    # how far across the wake reaches: ACROSS far sigmas where the hull went fastest; ahead
+    # how far across the wake reaches (ACROSS far sigmas where the hull went fastest) and
+    # ahead of the hull
     reach = ACROSS * FAR * sigma * min((u.max() / u_ref) ** 2, 4.0) * RUNG
     ahead = (AHEAD + 0.5 * PATCH * CELL * (course.length / (PATCH * CELL * sigma) + 2.0)) * sigma
-    cell = max(SEGMENT * course.length, (np.ptp(course.x) + np.ptp(course.y) + 2.0 * reach)
-               / MOST_CELLS)
+    cell = 2.0 ** np.ceil(np.log2(max(SEGMENT * course.length, (
+        np.ptp(course.x) + np.ptp(course.y) + 2.0 * reach) / MOST_CELLS)))  # (steady as it moves)
     lo = np.array([min(course.x), min(course.y)]) - reach - ahead - 2.0 * cell
     hi = np.array([max(course.x), max(course.y)]) + reach + ahead + 2.0 * cell
     within = np.flatnonzero((flat[0] > lo[0]) & (flat[0] < hi[0]) & (flat[1] > lo[1])
@@ -245,7 +257,7 @@ def read(course, points, foam=False):
         here, wide = stretch[at], across[at]
         fade = np.zeros(len(at), np.float32)
         for rung, weight in ladder:
-            scale = RUNG ** (2 * rung) * GRAVITY / CELL  # U_rung^2 / sigma^2, in cells
+            scale = RUNG ** (2 * rung) * GRAVITY / CELL  # U_rung^2 / sigma per s^2/m, in cells
             if kept is None:  # the near wake's own fade (`steady`), weighted as it is read
                 fade += np.float32(weight / total) * np.clip(
                     (BEHIND - scale * CELL * here) / FADE, 0.0, 1.0)
@@ -288,7 +300,7 @@ def places(course, u, lo, cell, shape, ahead, sigma):
     behind = np.concatenate([np.cumsum(per[::-1])[::-1], [0.0]])
     arc_at = np.concatenate([[0.0], np.cumsum(u * dt)])
     stretch = np.where(xi > 0.0, np.interp(arc - xi, arc_at, behind),
-                       xi / max(u[-1], SLOWEST) ** 2)
+                       xi / max(speed_now(course), SLOWEST) ** 2)
     since = t[-1] - np.interp(arc - xi + 0.5 * course.length, arc_at, t)
     fields = np.stack([xi, n, stretch, np.maximum(u_at, SLOWEST) ** -2.0, since])
     reached = ((xi > -ahead - cell) & (xi < arc + cell) & (

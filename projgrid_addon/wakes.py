@@ -107,11 +107,11 @@ def wake_heights(xy, t, path, draft, length, window=WINDOW):
     return draft * out.reshape(xy.shape[1:])
 
 
-def raster_heights(xs, ys, t, path, draft, length, window=WINDOW, table=None):
+def raster_heights(xs, ys, t, path, draft, length, window=WINDOW, extent=None):
     """The wake's heights on the raster of points (xs[j], ys[i]) -> (len(ys), len(xs))
     float32, as `wake_heights` gives them, an emission at a time: each ring is a row of the
     table at its age, read linearly in r (8 ns a point and emission, against 60 for
-    `wake_heights`' reads in r and s at once). `table`: the (reach, window) of the response
+    `wake_heights`' reads in r and s at once). `extent`: the (reach, window) of the response
     table to read (one shared by several rasters), at least what this one needs."""
     sigma = max(float(length), 0.1) / 4.0
     xs, ys = np.asarray(xs, dtype=np.float64), np.asarray(ys, dtype=np.float64)
@@ -120,7 +120,7 @@ def raster_heights(xs, ys, t, path, draft, length, window=WINDOW, table=None):
     at = path(taus)
     reach = float(np.hypot(np.maximum(np.abs(xs.max() - at[0]), np.abs(xs.min() - at[0])),
                            np.maximum(np.abs(ys.max() - at[1]), np.abs(ys.min() - at[1]))).max())
-    reach, span = table or (float(np.ceil(reach / 50.0) * 50.0), window)
+    reach, span = extent or (float(np.ceil(reach / 50.0) * 50.0), window)
     table, dr, ds = response(sigma, reach, span)
     age = (t - taus) / ds
     row = np.minimum(age.astype(np.intp), table.shape[0] - 2)

@@ -85,7 +85,7 @@ def gather(app, the_scene, depsgraph, t=0.0, per_frame=0.0, near=None):
     (nothing written)."""
     if app.chain:
         return ()
-    out = []
+    out, objects = [], []
     for obj in scene.valid_cache(the_scene).floats:
         settings = obj.projgrid_float
         if settings.ocean != app.ocean or obj.parent is not None or not follows(obj):
@@ -109,22 +109,23 @@ def gather(app, the_scene, depsgraph, t=0.0, per_frame=0.0, near=None):
             heading=float(np.arctan2(basis[1, 0], basis[0, 0])), length=length, beam=beam,
             keel=float(world[:, 2].min()), draft=draft, response=float(s.response),
             name=obj.name))
+        objects.append(obj)
     if near is None:
         return tuple(out)
-    objects = {o.name: o for o in scene.valid_cache(the_scene).floats}
     nearest = sorted(range(len(out)), key=lambda i: np.hypot(
         out[i].centre[0] - near[0], out[i].centre[1] - near[1]))[:MOST_WAKES]
     for i in nearest:
-        f = out[i]
-        out[i] = replace(f, course=course(objects[f.name], t, per_frame, np.subtract(
-            f.centre, f.origin[:2])))
+        out[i] = replace(out[i], course=course(objects[i], t, per_frame, out[i].centre))
     return tuple(out)
 
 
-def course(obj, t, per_frame, offset):
-    """(times, x, y): where `obj`'s location keys took its footprint's centre (its origin
-    plus `offset`) over the past WINDOW seconds up to `t`, on an absolute lattice of
-    COURSE_STEP s and now; () when neither its x nor its y is keyed to move."""
+def course(obj, t, per_frame, centre):
+    """(times, x, y): where `obj`'s location keys took its footprint's centre (`centre` now,
+    x, y) over the past WINDOW seconds up to `t`, on an absolute lattice of COURSE_STEP s
+    and now (the lattice's newest dropped when now is nearer it than half a step: a short
+    last step's speed is noise); () when neither its x nor its y is keyed to move. The keys
+    give the course's shape; it is moved to end at `centre` (what else places the object,
+    its delta transform, NLA, drivers, is taken as held over the window)."""
     curves = {c.array_index: c for c in scene.bag_curves(obj)
               if c.data_path == "location" and c.array_index in (0, 1) and not c.mute}
     if per_frame <= 0.0 or not any(
@@ -133,12 +134,14 @@ def course(obj, t, per_frame, offset):
         return ()
     newest = np.floor(t / COURSE_STEP) * COURSE_STEP
     times = newest - COURSE_STEP * np.arange(int(WINDOW / COURSE_STEP), -1, -1)
-    if times[-1] < t:
-        times = np.append(times, t)
+    if t - times[-1] < 0.5 * COURSE_STEP:
+        times = times[:-1]
+    times = np.append(times, t)
     frames = times / per_frame
-    x, y = ([curves[i].evaluate(f) + offset[i] for f in frames] if i in curves
-            else [float(obj.location[i]) + offset[i]] * len(frames) for i in (0, 1))
-    return tuple(times.tolist()), tuple(x), tuple(y)
+    x, y = (np.array([curves[i].evaluate(f) for f in frames]) if i in curves
+            else np.zeros(len(frames)) for i in (0, 1))
+    x, y = x + (centre[0] - x[-1]), y + (centre[1] - y[-1])
+    return tuple(times.tolist()), tuple(x.tolist()), tuple(y.tolist())
 
 
 def follows(obj):

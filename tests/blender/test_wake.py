@@ -66,9 +66,11 @@ def test_a_moving_float_leaves_its_wake_in_the_mesh(boat, bridge, extension):
         bpy.context.evaluated_depsgraph_get()).projgrid)
     lod = np.empty(len(ocean.data.vertices), np.float32)
     ocean.data.attributes["projgrid_lod"].data.foreach_get("value", lod)
-    grid = SimpleNamespace(surface=(bare[:, 0].astype(np.float64), bare[:, 1].astype(
-        np.float64), np.zeros(len(bare))), lod=lod, positions=np.zeros_like(bare))
-    want, _, _ = core.wake_field.draw(grid, [course], source.wave_scale)
+    shape = (-1, ocean.projgrid.resolution_x)  # the grid's rows
+    x, y = (bare[:, k].astype(np.float64).reshape(shape) for k in (0, 1))
+    grid = SimpleNamespace(surface=(x, y, np.zeros_like(x)), lod=lod,
+                           positions=np.zeros_like(bare))
+    want = core.wake_field.draw(grid, [course], source.wave_scale)[0].ravel()
     assert np.abs(drawn[:, 2] - bare[:, 2] - want).max() < 1e-4
     behind = (bare[:, 0] < -10.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
     ahead = bare[:, 0] > 60.0
