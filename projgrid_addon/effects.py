@@ -88,9 +88,12 @@ def whitecap_coverage(wind_speed, water_minus_air=0.0):
 
 
 def _names(objects, limit=2):
-    names = [f"'{o.name}'" for o in objects[:limit]]
-    more = len(objects) - limit
-    return ", ".join(names) + (f" and {more} more" if more > 0 else "")
+    return _quoted([o.name for o in objects], limit)
+
+
+def _quoted(names, limit=2):
+    more = len(names) - limit
+    return ", ".join(f"'{n}'" for n in names[:limit]) + (f" and {more} more" if more > 0 else "")
 
 
 def _auto(facts):
@@ -130,15 +133,14 @@ def _auto(facts):
         reflections = (True, f"{_names(mirrored)} stands above the water, mirrored in view")
     else:
         reflections = (False, "sky only: nothing above the water is mirrored in view")
-    moving = [SceneObject(name, 0.0, 0.0, False) for name, _, rms in facts.movers
-              if rms >= MOVING]
+    moving = [name for name, _, rms in facts.movers if rms >= MOVING]
     fastest = max((now for _, now, _ in facts.movers), default=0.0)
     if not moving:
         wakes = (False, f"nothing on the water moves faster than {MOVING:g} m/s")
     elif fastest >= MOVING:
-        wakes = (True, f"{_names(moving)} moves on the water (fastest now {fastest:.2g} m/s)")
+        wakes = (True, f"{_quoted(moving)} moves on the water (fastest now {fastest:.2g} m/s)")
     else:
-        wakes = (True, f"{_names(moving)} moved on the water: its wake is still there")
+        wakes = (True, f"{_quoted(moving)} moved on the water: its wake is still there")
     return {
         "wakes": wakes,
         "foam": (cover >= FOAM_MIN_COVERAGE,

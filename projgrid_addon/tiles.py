@@ -130,15 +130,16 @@ class Lookup:
 
 
 def bilinear(values, i, j):
-    """`values` (rows, columns) at fractional column indices i and row indices j, within the
-    table (a plain table, not a periodic texture: past_grid.py, wakes.py)."""
-    rows, cols = values.shape
+    """`values` (..., rows, columns) at fractional column indices i and row indices j, within
+    the table (a plain table, not a periodic texture: past_grid.py, wakes.py, wake_field.py);
+    several tables stacked are read at once, their corners and weights found once."""
+    rows, cols = values.shape[-2:]
     i0 = np.minimum(i.astype(np.intp), cols - 2)
     j0 = np.minimum(j.astype(np.intp), rows - 2)
     fi = (i - i0).astype(np.float32)
     fj = (j - j0).astype(np.float32)
-    flat = values.ravel()
+    flat = values.reshape(*values.shape[:-2], rows * cols)
     at = j0 * cols + i0
-    bottom = flat[at] * (1.0 - fi) + flat[at + 1] * fi
-    top = flat[at + cols] * (1.0 - fi) + flat[at + cols + 1] * fi
+    bottom = flat[..., at] * (1.0 - fi) + flat[..., at + 1] * fi
+    top = flat[..., at + cols] * (1.0 - fi) + flat[..., at + cols + 1] * fi
     return bottom * (1.0 - fj) + top * fj

@@ -85,8 +85,8 @@ def draw(result, courses, wave_scale):
     """Add the wakes of `courses` to the grid of `result` (projected_grid.GridResult), to its
     vertices' heights and its surface, where the grid holds them: each wake whole where its
     transverse waves (2 pi U_ref^2 / g, `reference_speed`) span four vertex spacings or more,
-    faded out until
-    two (the band limit, band_limit.py: a vertex's spacing is wave_scale / 2^(lod + 1)).
+    faded out until two (the band limit, band_limit.py: a vertex's spacing is
+    wave_scale / 2^(lod + 1)).
     Returns (heights added, active foam, residual foam), (ny, nx) float32 each (the foams the
     largest over the wakes)."""
     x, y, h = result.surface
@@ -160,13 +160,13 @@ def speed_now(course, dt=0.5):
     return float(np.hypot(course.x[-1] - x0, course.y[-1] - y0) / (t[-1] - back))
 
 
-def follow(course, points, ahead):
+def follow(course, u, points, ahead):
     """(xi, n, U, arc) of world points (2, M) against the course, in metres: xi the arc
     length behind the hull to the point's nearest place on the course (negative ahead of the
     hull, along its last heading), n the signed distance across the course from there, U the
-    course's speed there; and the course's arc length over the window. Unstretched."""
+    course's speed there (`u`: per step, `speeds`); and the course's arc length over the
+    window. Unstretched."""
     xy = np.stack([np.asarray(course.x, dtype=np.float64), np.asarray(course.y, np.float64)])
-    u, _ = speeds(course)
     arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=1)))])
     # on segments about SEGMENT hull lengths long, their knots at times on an absolute lattice
     # (the same as the window slides on), the oldest and newest samples kept, and one `ahead` m
@@ -225,7 +225,7 @@ def read(course, points, foam=False):
     # how far across the wake reaches (ACROSS far sigmas where the hull went fastest) and
     # ahead of the hull
     reach = ACROSS * FAR * sigma * min((u.max() / u_ref) ** 2, 4.0) * RUNG
-    ahead = (AHEAD + 0.5 * PATCH * CELL * (course.length / (PATCH * CELL * sigma) + 2.0)) * sigma
+    ahead = 0.5 * course.length + (AHEAD + PATCH * CELL) * sigma  # the bow's wave and more
     cell = 2.0 ** np.ceil(np.log2(max(SEGMENT * course.length, (
         np.ptp(course.x) + np.ptp(course.y) + 2.0 * reach) / MOST_CELLS)))  # (steady as it moves)
     lo = np.array([min(course.x), min(course.y)]) - reach - ahead - 2.0 * cell
@@ -241,7 +241,7 @@ def read(course, points, foam=False):
     ci, cj = (p[0] - lo[0]) / cell, (p[1] - lo[1]) / cell
     keep = alive[cj.astype(np.intp), ci.astype(np.intp)]
     within, ci, cj = within[keep], ci[keep], cj[keep]
-    xi, eta, stretch, slow, since = sample(fields, ci, cj)
+    xi, eta, stretch, slow, since = bilinear(fields, ci, cj)
     across = np.abs(eta) * slow
     taper = np.clip((arc - xi) / max(wakes.TAPER * arc, 1e-9), 0.0, 1.0)
     got = np.zeros(len(within), np.float32)
@@ -293,7 +293,7 @@ def places(course, u, lo, cell, shape, ahead, sigma):
     WEDGE of the track beside it); and the course's arc length (m)."""
     ny, nx = shape
     gx, gy = np.meshgrid(lo[0] + cell * np.arange(nx), lo[1] + cell * np.arange(ny))
-    xi, n, u_at, arc = follow(course, np.stack([gx.ravel(), gy.ravel()]), ahead)
+    xi, n, u_at, arc = follow(course, u, np.stack([gx.ravel(), gy.ravel()]), ahead)
     t = np.asarray(course.times, dtype=np.float64)
     dt = np.diff(t)
     per = np.maximum(u, SLOWEST) ** -2.0 * u * dt
@@ -311,26 +311,6 @@ def places(course, u, lo, cell, shape, ahead, sigma):
     alive[:, 1:] |= alive[:, :-1].copy()
     alive[:, :-1] |= alive[:, 1:].copy()
     return fields.reshape(5, ny, nx).astype(np.float32), alive, arc
-
-
-def sample(fields, ci, cj):
-    """The raster's fields (F, rows, columns) at fractional columns ci and rows cj,
-    bilinearly, the corners and weights found once for all: F arrays."""
-    count, rows, cols = fields.shape
-    i0 = np.minimum(ci.astype(np.intp), cols - 2)
-    j0 = np.minimum(cj.astype(np.intp), rows - 2)
-    fi = (ci - i0).astype(np.float32)
-    fj = (cj - j0).astype(np.float32)
-    at = j0 * cols + i0
-    weights = [(at, (1.0 - fi) * (1.0 - fj)), (at + 1, fi * (1.0 - fj)),
-               (at + cols, (1.0 - fi) * fj), (at + cols + 1, fi * fj)]
-    out = []
-    for field in fields.reshape(count, -1):
-        value = field[at] * weights[0][1]
-        for corner, weight in weights[1:]:
-            value += field[corner] * weight
-        out.append(value)
-    return out
 
 
 def whiteness(course, u_ref):

@@ -87,13 +87,8 @@ def wake_heights(xy, t, path, draft, length, window=WINDOW):
     `length` (m) whose path is `path(taus)` -> (2, n) positions at past times (the scene's
     animation evaluated there). About 12 microseconds a point (20,000 in 0.25 s): not yet
     for every vertex of every frame."""
-    sigma = max(float(length), 0.1) / 4.0
+    sigma, taus, weights, at = _emitted(path, t, length, window)
     xy = np.asarray(xy, dtype=np.float64)
-    # Successive rings' phases close (half a sigma apart along the path): from a lattice of
-    # STEP s halved per octave of speed, nested, so a speed change shifts no emission.
-    need = 0.5 * sigma / max(_speed(path, t), 0.5)
-    taus, weights = emissions(t, STEP / 2.0 ** max(np.ceil(np.log2(STEP / need)), 0.0), window)
-    at = path(taus)
     flat = xy.reshape(2, -1)
     lo, hi = flat.min(axis=1, initial=0.0), flat.max(axis=1, initial=0.0)
     reach = float(np.hypot(*np.maximum(np.abs(hi[:, None] - at), np.abs(lo[:, None] - at))).max())
@@ -113,11 +108,8 @@ def raster_heights(xs, ys, t, path, draft, length, window=WINDOW, extent=None):
     table at its age, read linearly in r (8 ns a point and emission, against 60 for
     `wake_heights`' reads in r and s at once). `extent`: the (reach, window) of the response
     table to read (one shared by several rasters), at least what this one needs."""
-    sigma = max(float(length), 0.1) / 4.0
+    sigma, taus, weights, at = _emitted(path, t, length, window)
     xs, ys = np.asarray(xs, dtype=np.float64), np.asarray(ys, dtype=np.float64)
-    need = 0.5 * sigma / max(_speed(path, t), 0.5)
-    taus, weights = emissions(t, STEP / 2.0 ** max(np.ceil(np.log2(STEP / need)), 0.0), window)
-    at = path(taus)
     reach = float(np.hypot(np.maximum(np.abs(xs.max() - at[0]), np.abs(xs.min() - at[0])),
                            np.maximum(np.abs(ys.max() - at[1]), np.abs(ys.min() - at[1]))).max())
     reach, span = extent or (float(np.ceil(reach / 50.0) * 50.0), window)
@@ -138,6 +130,17 @@ def raster_heights(xs, ys, t, path, draft, length, window=WINDOW, extent=None):
         d -= i
         out += rows[e][i] + d * steps[e][i]
     return out * np.float32(draft)
+
+
+def _emitted(path, t, length, window):
+    """(sigma, taus, weights, at): a hull of `length`'s pressure patch, its emission times
+    and weights within the window, and where its `path` put it then. Successive rings'
+    phases close (half a sigma apart along the path): from a lattice of STEP s halved per
+    octave of speed, nested, so a speed change shifts no emission."""
+    sigma = max(float(length), 0.1) / 4.0
+    need = 0.5 * sigma / max(_speed(path, t), 0.5)
+    taus, weights = emissions(t, STEP / 2.0 ** max(np.ceil(np.log2(STEP / need)), 0.0), window)
+    return sigma, taus, weights, path(taus)
 
 
 def _speed(path, t, dt=0.5):
