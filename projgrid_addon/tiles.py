@@ -138,8 +138,13 @@ def bilinear(values, i, j):
     j0 = np.minimum(j.astype(np.intp), rows - 2)
     fi = (i - i0).astype(np.float32)
     fj = (j - j0).astype(np.float32)
-    flat = values.reshape(*values.shape[:-2], rows * cols)
     at = j0 * cols + i0
-    bottom = flat[..., at] * (1.0 - fi) + flat[..., at + 1] * fi
-    top = flat[..., at + cols] * (1.0 - fi) + flat[..., at + cols + 1] * fi
-    return bottom * (1.0 - fj) + top * fj
+    corners = ((at, (1.0 - fi) * (1.0 - fj)), (at + 1, fi * (1.0 - fj)),
+               (at + cols, (1.0 - fi) * fj), (at + cols + 1, fi * fj))
+    out = []
+    for table in values.reshape(-1, rows * cols):  # a table at a time: contiguous gathers
+        value = table[at] * corners[0][1]
+        for corner, weight in corners[1:]:
+            value += table[corner] * weight
+        out.append(value)
+    return out[0] if values.ndim == 2 else np.stack(out).reshape(*values.shape[:-2], -1)
