@@ -93,6 +93,7 @@ class FrameInputs:
     sun_light: tuple  # RGB irradiance the sun lamp puts on the mean sea plane (0: no sun)
     sky_strength: float  # the world's strength
     sky_overcast: float  # how far our sky world is turned to the overcast (0 clear, 1 full)
+    sky_model: str  # our sky's Sky Texture model (daylight.MODELS)
     wind_samples: tuple | None  # (frames, speeds, directions) of a keyframed wind since 0
     vertices: int  # the drawing mesh's vertices now (memory.check_grid)
     our_material: bool  # the mesh draws our water material (else no slope layer is made)
@@ -175,7 +176,8 @@ def plan(inputs):
         layer = (hf.layer.slopes(t), hf.layer.lookups(origin),
                  [(b.level, b.top_log, b.bottom_log) for b in hf.layer.bands], origin)
     light = optics.body_light(np.asarray(inputs.sun_light, dtype=np.float64),
-                              optics.sky_irradiance(inputs.sky_strength, inputs.sky_overcast))
+                              optics.sky_irradiance(inputs.sky_strength, inputs.sky_overcast,
+                                                    inputs.facts.sun_elevation, inputs.sky_model))
     return FramePlan(
         camera=cam, source=hf, result=result, decisions=decisions, on=on, bound=bound,
         whitecaps=whitecaps, residual=residual, caustics=caustics, godrays=godrays,

@@ -1,9 +1,9 @@
 """The look's constants, in one place: the node tree (shaders/) is built from them and the core's
 formulas of the look (shading.py, effects.py) use the same numbers. NumPy-free and bpy-free."""
 
-import math
+from . import daylight
 
-SUN_ELEVATION, SUN_STRENGTH = 12.0, 3.0  # degrees, W/m^2: Add Ocean's sun lamp (shaders/sky.py)
+SUN_ELEVATION = 12.0  # degrees: Add Ocean's sun lamp (shaders/sky.py)
 
 # The foam's break-up noise, features per metre along the wind: a breaking crest's patches are
 # metres long, so a pixel tens of metres away still shows them, not the mean share.
@@ -53,12 +53,10 @@ GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size
 GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
 
 WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in DAYLIGHT
-# The irradiance (W/m^2 per channel, linear) Add Ocean's sky and sun (sky.py, the sun 12 deg up)
-# put on the mean sea plane: the water scatters Water Colour back up under it, and under other
-# light in proportion (tests/blender/test_water_tree.py integrates it).
-DAYLIGHT = (1.2865, 1.7202, 2.7205)
-# Of it, the sun lamp's (white).
-DAYLIGHT_SUN = SUN_STRENGTH * math.sin(math.radians(SUN_ELEVATION))
+# The irradiance (W/m^2 per channel, linear) Add Ocean's sky and sun lamp (sky.py, the sun 12
+# deg up) put on the mean sea plane: the water scatters Water Colour back up under it, and
+# under other light in proportion (tests/blender/test_sky.py measures Blender's sky).
+DAYLIGHT = daylight.daylight(SUN_ELEVATION)
 # Linear radiance of the overcast overhead (Sea State's storm sky, shaders/sky.py); toward the
 # horizon a third of it (the CIE standard overcast sky). A camera's exposure follows the light:
 # the overcast is drawn as an incident meter exposes it, its irradiance on the sea (7 pi / 9

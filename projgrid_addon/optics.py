@@ -7,8 +7,9 @@ in the water sees."""
 
 import numpy as np
 
+from .daylight import MODEL, sky_light
 from .effects import submerged
-from .look import DAYLIGHT, DAYLIGHT_SUN, OVERCAST_ZENITH
+from .look import DAYLIGHT, OVERCAST_ZENITH, SUN_ELEVATION
 from .projected_grid import grid_area, grid_derivative
 from .validation import positive
 
@@ -28,13 +29,14 @@ def absorption(clarity):
     return tuple(a * CLARITY / clarity for a in ABSORPTION)
 
 
-def sky_irradiance(strength, overcast):
-    """RGB irradiance our sky world puts on the sea plane at Background Strength `strength`,
-    turned `overcast` (0 to 1) toward the overcast: the clear sky's part of the daylight
-    (DAYLIGHT less DAYLIGHT_SUN) and the overcast's, whose radiance Z (1 + 2 sin h) / 3 (the
-    CIE standard overcast sky, Z its zenith's: OVERCAST_ZENITH) integrates over the hemisphere,
-    weighed by sin h, to 7 pi / 9 Z."""
-    clear = np.asarray(DAYLIGHT, dtype=np.float64) - DAYLIGHT_SUN
+def sky_irradiance(strength, overcast, elevation=SUN_ELEVATION, model=MODEL):
+    """RGB irradiance our sky world (its Sky Texture's `model`) puts on the sea plane at
+    Background Strength `strength` with the sun `elevation` degrees up (None: no sun lamp,
+    the sky's default sun), turned
+    `overcast` (0 to 1) toward the overcast: the clear sky's (daylight.sky_light) and the
+    overcast's, whose radiance Z (1 + 2 sin h) / 3 (the CIE standard overcast sky, Z its
+    zenith's: OVERCAST_ZENITH) integrates over the hemisphere, weighed by sin h, to 7 pi / 9 Z."""
+    clear = np.asarray(sky_light(SUN_ELEVATION if elevation is None else elevation, model))
     cloud = 7.0 * np.pi / 9.0 * np.asarray(OVERCAST_ZENITH, dtype=np.float64)
     f = min(max(float(overcast), 0.0), 1.0)
     return max(float(strength), 0.0) * (clear + f * (cloud - clear))

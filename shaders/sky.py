@@ -1,37 +1,43 @@
 """The sky world and sun lamp Add Ocean puts into a scene that has none (never replacing one).
 
-The sky is a gradient on the view direction's height, the same in every Blender version, so
-reference renders compare across 4.5 and 5.x, and a glow around the sun: the light the haze
-scatters forward, by the Henyey-Greenstein phase function (1 - g^2) / (1 + g^2 - 2 g cos)^1.5
-of the angle to the sun, which brightens the sky toward a low sun as in photographs. The glow
-follows the scene's sun lamp (`aim_glow`, from the frame handler) and goes out without one.
-Under cloud (`weather`: the Sea State operator's storm) it gives way to an overcast whose
+The sky is Blender's own Sky Texture (daylight.py: 5.x's Multiple Scattering, 4.5's Nishita)
+times daylight.SKY_SCALE, aimed at the scene's sun lamp on every frame (`aim_sky`), so a low
+sun gives a warm sky and a high one a blue sky; its sun disc, which EEVEE does not draw, is
+ours, seen by camera rays only with its aureole (daylight.aureole: the glare about the sun;
+the lamp lights the scene and glints on the water). Our sun
+lamp carries the disc's light: its colour and strength follow its elevation (`follow_sun`,
+daylight.sunlight) while they are as we left them. Below the horizon the world shows the
+depths, deep water's own light, which total internal reflection shows from under water.
+Under cloud (`weather`: the Sea State operator's storm) the sky gives way to an overcast whose
 brightness grows with the height as the CIE standard overcast sky's, (1 + 2 sin h) / 3 of the
-zenith's (Moon and Spencer 1942), mottled by a cloud noise on its base, and the sun lamp
-dims behind it. The water reflects it all (§3.4.3).
+zenith's (Moon and Spencer 1942), mottled by a cloud noise on its base, and the sun lamp dims
+behind it. The water reflects it all (§3.4.3).
 """
 
 import math
 
 import bpy
+import numpy as np
 
-from ..projgrid_addon.look import OVERCAST_ZENITH, SUN_ELEVATION, SUN_STRENGTH
+from ..projgrid_addon import daylight, optics
+from ..projgrid_addon.look import OVERCAST_ZENITH, SUN_ELEVATION, WATER_COLOUR
 from .nodes import TAG, Graph, empty_tree, socket
 
 WORLD = "Projected Grid Sky"
 SUN = "Projected Grid Sun"
-# (position on the ramp from z = RAMP_Z[0] to z = RAMP_Z[1], linear colour)
-GRADIENT = ((0.0, (0.10, 0.12, 0.14)), (0.09, (0.70, 0.78, 0.88)), (0.35, (0.28, 0.45, 0.75)),
-            (1.0, (0.08, 0.20, 0.55)))
-RAMP_Z = (-0.1, 1.0)  # the view direction's height mapped onto the ramp's 0 to 1
+SKY = "Sky"  # the Sky Texture node
 BACKGROUND = "Background"  # the world's Background node: its Strength scales the sky
 GLOW = "Sun Glow"  # the Combine XYZ node holding the unit vector toward the sun (0: no sun)
-GLOW_G = 0.8  # the haze's forward scattering (Henyey-Greenstein asymmetry)
-GLOW_COLOUR = (0.03, 0.0276, 0.024)  # linear, times the phase function: warm, as sunlight
+DISC = "Sun Disc"  # the Combine XYZ node holding the disc's RGB radiance
+# the Combine XYZ node holding the radiance of deep water seen from within (`depths`), shown
+# below the horizon over DEPTHS_BLEND of the view direction's height
+DEPTHS, DEPTHS_BLEND = "Depths", 0.02
+LIGHT = "projgrid_light"  # on our lamp: (strength, r, g, b) as we last set them
 OVERCAST = "Overcast"  # the Mix node from the clear sky to the overcast (its factor: how much)
-# The sun lamp under a full overcast: its strength against a clear sky's, and the angle it
-# spreads over (degrees): a bright patch in the cloud, not a disc, so no glitter path.
-SUN_UNDER_CLOUD, SUN_ANGLE = 0.15, (0.5, 40.0)
+# The sun lamp under a full overcast: its strength against a clear sky's (its light on the
+# sea 2 % of the overcast's with the sun 12 deg up), and the angle it spreads over (degrees):
+# a bright patch in the cloud, not a disc, so no glitter path.
+SUN_UNDER_CLOUD, SUN_ANGLE = 0.055, (daylight.SUN_SIZE, 40.0)
 # The overcast's cloud: a fractal noise on the cloud base (the view direction over its height,
 # CLOUD_SCALE features per cloud height), brightening and darkening it by up to CLOUD_CONTRAST
 # (mean 1: the light on the sea stays the CIE sky's), less toward the horizon, where a pixel
@@ -48,33 +54,48 @@ def cloud_shade(m, fac, fade):
 
 
 def world():
+    """Our sky world: the Sky Texture and our sun disc, the overcast over them, the depths
+    below the horizon; aimed at Add Ocean's sun (`aim_sky` aims it at the scene's each frame)."""
     w = bpy.data.worlds.new(WORLD)
     w[TAG] = True
     g = Graph(empty_tree(w))
     direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
-    z = g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"]
-    t = g.node("ShaderNodeMapRange", {0: z, 1: RAMP_Z[0], 2: RAMP_Z[1], 3: 0.0, 4: 1.0}).outputs[0]
-    ramp = g.node("ShaderNodeValToRGB", {0: t})
-    elements = ramp.color_ramp.elements
-    while len(elements) < len(GRADIENT):
-        elements.new(0.5)
-    for element, (pos, colour) in zip(elements, GRADIENT, strict=True):
-        element.position = pos
-        element.color = (*colour, 1.0)
+    sky = g.node("ShaderNodeTexSky", sky_type=daylight.MODEL if bpy.app.version >= (5, 0, 0)
+                 else "NISHITA", sun_disc=False, altitude=daylight.SKY_ALTITUDE)
+    sky.name = sky.label = SKY
     toward = g.node("ShaderNodeCombineXYZ")
     toward.name = toward.label = GLOW
+    disc = g.node("ShaderNodeCombineXYZ")
+    disc.name = disc.label = DISC
     cos = g.vector("DOT_PRODUCT", direction, toward.outputs[0])
-    phase = g.math("MULTIPLY", g.math("POWER", g.math(
-        "MULTIPLY_ADD", cos, -2.0 * GLOW_G, 1.0 + GLOW_G**2), -1.5), 1.0 - GLOW_G**2)
-    glow = g.vector("SCALE", GLOW_COLOUR, Scale=g.math(
-        "MULTIPLY", phase, g.vector("LENGTH", toward.outputs[0])))  # none without a sun
-    sky = g.vector("ADD", ramp.outputs["Color"], glow)
-    background = g.node("ShaderNodeBackground", {"Color": sky, "Strength": 1.0})
+    inside = g.math("GREATER_THAN", cos, math.cos(math.radians(daylight.SUN_SIZE / 2.0)))
+    sunshape = g.mix(inside, daylight.aureole(g, g.math("ARCCOSINE", g.math("MINIMUM", cos,
+                                                                               1.0))), 1.0)
+    seen = g.math("MULTIPLY", sunshape, g.node("ShaderNodeLightPath").outputs["Is Camera Ray"])
+    clear = g.vector("ADD", g.vector("SCALE", sky.outputs["Color"], Scale=daylight.SKY_SCALE),
+                     g.vector("SCALE", disc.outputs[0], Scale=seen))
+    background = g.node("ShaderNodeBackground", {"Color": clear, "Strength": 1.0})
     background.name = BACKGROUND
     output = g.node("ShaderNodeOutputWorld")
     g.set(output.inputs["Surface"], background.outputs[0])
-    _overcast(g)
+    sky_or_cloud = socket(_overcast(g).outputs, "Result_Color")
+    # below the horizon the depths (what total internal reflection shows from under water)
+    depths = g.node("ShaderNodeCombineXYZ")
+    depths.name = depths.label = DEPTHS
+    z = g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"]
+    below = g.clamp(g.math("MULTIPLY", z, -1.0 / DEPTHS_BLEND))
+    g.set(background.inputs["Color"], socket(g.node(
+        "ShaderNodeMix", {"Factor_Float": below, "A_Color": sky_or_cloud,
+                          "B_Color": depths.outputs[0]}, data_type="RGBA").outputs,
+        "Result_Color"))
+    aim_sky(w, _toward(SUN_ELEVATION, 0.0))
     return w
+
+
+def _toward(elevation, azimuth):
+    """Unit vector toward a sun `elevation` degrees up, shining from `azimuth` (`aim`)."""
+    e, a = math.radians(elevation), math.radians(azimuth)
+    return (-math.cos(e) * math.sin(a), math.cos(e) * math.cos(a), math.sin(e))
 
 
 def _overcast(g):
@@ -115,20 +136,44 @@ def weather(scene, cloud):
     for obj in scene.objects:
         light = obj.data if obj.type == "LIGHT" else None
         if light is not None and light.type == "SUN" and _ours(light):
-            light.energy = SUN_STRENGTH * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud)
             light.angle = math.radians(SUN_ANGLE[0] + (SUN_ANGLE[1] - SUN_ANGLE[0]) * cloud)
+            follow_sun(obj, cloud, model(world), force=True)
 
 
-def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0, strength=SUN_STRENGTH):
-    """A sun lamp `elevation` degrees above the horizon, shining from `azimuth` (`aim`)."""
+def sun(collection, elevation=SUN_ELEVATION, azimuth=0.0):
+    """A sun lamp `elevation` degrees above the horizon, shining from `azimuth` (`aim`), with
+    the light of our sky's sun there (`follow_sun`)."""
     data = bpy.data.lights.new(SUN, "SUN")
     data[TAG] = True
-    data.energy = strength
     data.angle = math.radians(SUN_ANGLE[0])
     obj = bpy.data.objects.new(SUN, data)
     aim(obj, elevation, azimuth)
     collection.objects.link(obj)
+    follow_sun(obj, 0.0, model(bpy.context.scene.world), force=True)
     return obj
+
+
+def follow_sun(obj, cloud, sky_model, force=False, matrix=None):
+    """Give our sun lamp `obj` (at world `matrix`, default its own) the colour and strength of
+    our sky's sun at its elevation (daylight.sunlight of `sky_model`), dimmed under `cloud`
+    (0 to 1): only while they are as we last set them (`force`: set them anyway), so a user's
+    own colour or strength stays. Another lamp, or a library's, is left alone."""
+    light = obj.data if obj is not None and obj.type == "LIGHT" else None
+    if light is None or light.type != "SUN" or not _ours(light):
+        return
+    now = (light.energy, *light.color)
+    last = light.get(LIGHT)
+    if not force and last is not None and any(abs(a - b) > 1e-4 * max(abs(b), 1.0)
+                                               for a, b in zip(now, last, strict=True)):
+        return
+    toward = (obj.matrix_world if matrix is None else matrix).col[2]
+    up = toward[2] / max(toward.length, 1e-12)
+    elevation = math.degrees(math.asin(max(-1.0, min(1.0, up))))
+    energy, colour = daylight.sunlight(elevation, sky_model)
+    want = (energy * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud), *colour)
+    if any(abs(a - b) > 1e-6 * max(abs(b), 1.0) for a, b in zip(now, want, strict=True)):
+        light.energy, light.color = want[0], want[1:]
+    light[LIGHT] = (light.energy, *light.color)
 
 
 def aim(obj, elevation=SUN_ELEVATION, azimuth=0.0):
@@ -156,14 +201,57 @@ def overcast(world):
     return float(node.inputs["Factor"].default_value) if node is not None else 0.0
 
 
-def aim_glow(world, toward):
-    """Point our world's glow at the sun: `toward` the unit vector to it, None without a sun.
-    Another world, or a library's, is left alone."""
-    node = (world.node_tree.nodes.get(GLOW) if _ours(world) and world.node_tree is not None
-            else None)
-    if node is None:
-        return
+def depths(elevation, cloud, sun, sky_model):
+    """RGB radiance of deep water seen from within: the Water Colour Add Ocean gives (in
+    DAYLIGHT) times the light on the sea against it (optics.body_light), with the sun
+    `elevation` degrees up (if `sun`: a sun lamp shines), under `cloud` (0 to 1)."""
+    sun_light = np.zeros(3)
+    if sun:
+        energy, colour = daylight.sunlight(elevation, sky_model)
+        up = max(math.sin(math.radians(elevation)), 0.0)
+        sun_light = (energy * up * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud)) * np.array(colour)
+    light = optics.body_light(sun_light, optics.sky_irradiance(1.0, cloud, elevation,
+                                                               sky_model))
+    return tuple(float(c * v) for c, v in zip(WATER_COLOUR, light, strict=True))
+
+
+def model(world):
+    """The Sky Texture model of our world (`daylight.MODELS`); another world's light is
+    taken as Blender 5's sky (daylight.MODEL)."""
+    node = (world.node_tree.nodes.get(SKY) if world is not None and world.get(TAG)
+            and world.node_tree is not None else None)
+    return node.sky_type if node is not None and node.sky_type in daylight.MODELS else (
+        daylight.MODEL)
+
+
+def aim_sky(world, toward):
+    """Aim our world's sky and sun disc at the sun: `toward` the unit vector to it, None
+    without a sun lamp (no disc; the sky keeps its last sun). Another world, or a library's,
+    is left alone; a world of ours made before the Sky Texture gets its glow aimed."""
+    nodes = world.node_tree.nodes if _ours(world) and world.node_tree is not None else {}
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
-    for input_, value in zip(node.inputs, values, strict=False):
-        if abs(input_.default_value - value) > 1e-6:
-            input_.default_value = value
+    elevation = math.degrees(math.asin(max(-1.0, min(1.0, values[2]))))
+    sky, disc = nodes.get(SKY), nodes.get(DISC)
+    if sky is not None and toward is not None:
+        _set(sky, "sun_elevation", math.radians(elevation))
+        _set(sky, "sun_rotation", math.atan2(values[0], values[1]) % (2.0 * math.pi))
+    if disc is not None:
+        radiance = ((0.0, 0.0, 0.0) if toward is None else
+                    daylight.disc_radiance(elevation, sky.sky_type))
+        for input_, value in zip(disc.inputs, radiance, strict=True):
+            _set(input_, "default_value", value)
+    deep = nodes.get(DEPTHS)
+    if deep is not None and sky is not None:
+        shown = math.degrees(sky.sun_elevation) if toward is None else elevation
+        for input_, value in zip(deep.inputs, depths(shown, overcast(world), toward is not None,
+                                                     sky.sky_type), strict=True):
+            _set(input_, "default_value", value)
+    glow = nodes.get(GLOW)
+    for input_, value in zip(glow.inputs if glow is not None else (), values, strict=False):
+        _set(input_, "default_value", value)
+
+
+def _set(block, name, value):
+    """Set `block.name` to `value` only if it changed (each write re-evaluates the world)."""
+    if abs(getattr(block, name) - value) > 1e-6 * max(abs(value), 1.0):
+        setattr(block, name, value)

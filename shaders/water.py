@@ -72,7 +72,7 @@ SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 36  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 37  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water

@@ -7,8 +7,6 @@ Alone: python -m tools.boat_shot [out_dir] [--quick] (a small, few-sample render
 
 import math
 import os
-import sys
-import tempfile
 
 SPEED = 6.0  # m/s along +X
 SECONDS = 40.0  # the keys' span
@@ -86,13 +84,6 @@ def shoot(out, quick=False):
 
 
 if __name__ == "__main__":
-    os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="projgrid-user-"))
-    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    import bpy  # noqa: F401
+    from tools.beaufort import standalone
 
-    from tools.demo import install
-    from tools.package import build
-
-    install(build(tempfile.mkdtemp(prefix="projgrid-dist-")))
-    args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    print(shoot(os.path.abspath(args[0] if args else "docs"), "--quick" in sys.argv))
+    print(standalone(shoot))

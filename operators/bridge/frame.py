@@ -88,8 +88,11 @@ def update_scene(the_scene, depsgraph, render, frame_change):
         companions.remove_stale_stand_ins(the_scene, apps)
     if apps:
         sun = objects.sun_lamp(the_scene, depsgraph, render)
-        sky.aim_glow(the_scene.world,
-                     None if sun is None else shading.sun_direction(sun.matrix_world))
+        sky.aim_sky(the_scene.world,
+                    None if sun is None else shading.sun_direction(sun.matrix_world))
+        if sun is not None:
+            sky.follow_sun(sun.original, sky.overcast(the_scene.world),
+                           sky.model(the_scene.world), matrix=sun.matrix_world)
     for app in apps:
         message = update_appearance(app, the_scene, depsgraph, render=render,
                                     frame_change=frame_change)

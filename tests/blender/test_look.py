@@ -2,6 +2,8 @@
 materials, the water body's light, the foam's grain and the gusts against the core's
 numbers (through Geometry Nodes), and the slope layer's images."""
 
+import math
+
 import bpy
 import numpy as np
 import pytest
@@ -62,18 +64,21 @@ def test_the_water_body_glows_with_the_scene_s_light(sea, extension):
     def emitted():
         return np.array(glow["Color"].default_value[:3]) * glow["Strength"].default_value
     scene.frame_set(2)
-    daylight = emitted()
     sun = next(o for o in scene.objects if o.type == "LIGHT")
+    optics, model = extension.projgrid_addon.optics, extension.shaders.sky.model(scene.world)
+    # Add Ocean's daylight in this version's sky (5.x's is DAYLIGHT itself: 1 there)
+    lamp = sun.data.energy * np.array(sun.data.color) * math.sin(math.radians(12.0))
+    full = np.array(optics.body_light(lamp, optics.sky_irradiance(1.0, 0.0, 12.0, model)))
+    daylight = emitted() / full
     sun.data.energy = 0.0
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.25
     scene.frame_set(3)
-    optics = extension.projgrid_addon.optics
-    want = optics.body_light(0.0, optics.sky_irradiance(0.25, 0.0))
+    want = optics.body_light(0.0, optics.sky_irradiance(0.25, 0.0, 12.0, model))
     assert emitted() == pytest.approx(daylight * np.array(want), rel=1e-4)
     assert max(want) < 0.25
     scene.world.node_tree.nodes["Overcast"].inputs["Factor"].default_value = 1.0
     scene.frame_set(5)
-    grey = optics.body_light(0.0, optics.sky_irradiance(0.25, 1.0))
+    grey = optics.body_light(0.0, optics.sky_irradiance(0.25, 1.0, 12.0, model))
     assert emitted() == pytest.approx(daylight * np.array(grey), rel=1e-4)
     assert grey[2] / grey[0] < 0.8 * want[2] / want[0]
     scene.world = None

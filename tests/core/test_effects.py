@@ -7,6 +7,7 @@ import pytest
 
 from projgrid_addon import HeightField, effects, foam, look, optics, sea_states
 from projgrid_addon.camera import Camera, look_at, perspective
+from projgrid_addon.daylight import sky_light
 from projgrid_addon.effects import SceneFacts, SceneObject, crossing_boxes, decide
 
 
@@ -271,11 +272,15 @@ def test_facts_keys_differ_exactly_when_the_facts_do():
 def test_the_body_s_light_is_the_daylight_s_share():
     """optics.body_light: 1 in the daylight the Water Colour is given in (Add Ocean's sun and
     clear sky), nought in the dark, the sun's and the sky's parts apart, per channel."""
-    daylight, sun = np.array(look.DAYLIGHT), look.DAYLIGHT_SUN
+    daylight = np.array(look.DAYLIGHT)
     clear = optics.sky_irradiance(1.0, 0.0)
+    sun = daylight - np.array(sky_light(look.SUN_ELEVATION))
     assert clear == pytest.approx(daylight - sun)
     assert optics.body_light(sun, clear) == pytest.approx((1.0, 1.0, 1.0))
     assert optics.body_light(0.0, optics.sky_irradiance(0.0, 0.3)) == (0.0, 0.0, 0.0)
+    # the sky follows the sun: redder and dimmer at sunset
+    low, high = optics.sky_irradiance(1.0, 0.0, 3.0), optics.sky_irradiance(1.0, 0.0, 45.0)
+    assert low[0] / low[2] > high[0] / high[2] and low[1] < 0.5 * high[1]
     assert optics.body_light(0.0, clear) == pytest.approx((daylight - sun) / daylight)
     assert optics.body_light((1.2, 0.6, 0.0), 0.5 * clear) == pytest.approx(
         (np.array((1.2, 0.6, 0.0)) + 0.5 * (daylight - sun)) / daylight)

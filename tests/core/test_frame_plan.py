@@ -31,8 +31,8 @@ def inputs(samples=None, frame=48.0, **settings):
         settings=s, render=False, resolution=(65, 129), camera=(view, proj), world=np.eye(4),
         to_local=np.eye(3), time=frame / 24.0, frame=frame, per_frame=1.0 / 24.0,
         render_width=960, facts=facts, sun_light=(1.0, 1.0, 1.0), sky_strength=1.0,
-        sky_overcast=0.0, wind_samples=samples, vertices=0, our_material=True,
-        volume_reach=100.0, ahead=False)
+        sky_overcast=0.0, sky_model="MULTIPLE_SCATTERING", wind_samples=samples, vertices=0,
+        our_material=True, volume_reach=100.0, ahead=False)
 
 
 def test_a_plan_is_a_pure_function_of_its_inputs():
