@@ -50,7 +50,9 @@ WHITECAP = 8.0  # m: a pixel this long (and longer) draws the sea's mean whiteca
 # Cox and Munk's (tests/blender/test_look.py).
 GUST_SCALE, GUST_DETAIL, GUST_FAC_STD = 1.0 / 30.0, 1.0, 0.098
 GUST_EVOLVE = 0.5  # the patches' change, in the noise's own time per patch size drifted
-GODRAY_DENSITY = 0.05  # scattering per metre where the caustic intensity is 1 (flat water)
+# Scattering per metre where the caustic intensity is 1 (flat water), lit by the sky's sun
+# (daylight.sunlight): of the order of clear ocean water's (Petzold 1972: 0.037 per metre).
+GODRAY_DENSITY = 0.025
 
 WATER_COLOUR = (0.004, 0.016, 0.024)  # deep water seen from above (linear), in DAYLIGHT
 # The irradiance (W/m^2 per channel, linear) Add Ocean's sky and sun lamp (sky.py, the sun 12
