@@ -175,3 +175,24 @@ def test_a_wake_adds_to_the_noise_sea_too(boat, bridge):
     lift = drawn[:, 2] - bare[:, 2]
     behind = (bare[:, 0] < -10.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
     assert np.abs(lift[behind]).max() > 0.1 and not lift[bare[:, 0] > 60.0].any()
+
+
+def test_a_marker_camera_sees_the_float_and_its_wake(boat):
+    """Timeline markers switch cameras: under the second camera the boat rides as under the
+    first (its pose is the sea's, whatever the camera) and the mesh the second camera's grid
+    builds carries its wake behind it."""
+    scene, ocean, obj = boat
+    first = scene.camera
+    scene.frame_set(FRAME)
+    pose = np.array(obj.matrix_world)
+    second = add_camera(scene, location=(-60.0, 0.0, 25.0), rotation=(65.0, 0.0, -34.0))
+    scene.camera = first
+    scene.timeline_markers.new("A", frame=1).camera = first
+    scene.timeline_markers.new("B", frame=FRAME - 10).camera = second
+    bare = mesh_with(scene, ocean, "OFF")
+    drawn = mesh_with(scene, ocean, "AUTO")
+    assert scene.camera == second
+    assert np.array(obj.matrix_world) == pytest.approx(pose, abs=1e-5)
+    behind = (bare[:, 0] < -10.0) & (bare[:, 0] > -60.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
+    assert behind.sum() > 100  # the second camera's grid covers the wake
+    assert np.abs(drawn[behind, 2] - bare[behind, 2]).max() > 0.1
