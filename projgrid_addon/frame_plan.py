@@ -104,6 +104,9 @@ class FrameInputs:
     # a flyover): the residual foam's past on canonical cameras' grids (past_grid.py)
     dolly: bool = False
     floats: tuple = ()  # floating.Float: the objects riding this ocean, as the scene places them
+    # (name, course, draft, length, beam) of objects keyed across the water that do not float
+    # (wake_field.course): their wakes
+    wakers: tuple = ()
 
 
 @dataclass(eq=False)
@@ -147,7 +150,9 @@ def plan(inputs):
     cam = Camera(*inputs.camera)
     level = float(inputs.world[2, 3])
     courses = tuple(wake_field.course(f.name, *f.course, f.draft, f.length, f.beam)
-                    for f in inputs.floats if f.course)
+                    for f in inputs.floats if f.course) + tuple(
+        wake_field.course(name, *course, draft, length, beam)
+        for name, course, draft, length, beam in inputs.wakers)
     facts = replace(inputs.facts, bound=bound,
                     reach=min(bound, effects.REACH_SIGMAS * hf.spread[0]),
                     movers=tuple((c.name, wake_field.speed_now(c), wake_field.speeds(c)[1])

@@ -119,6 +119,29 @@ def gather(app, the_scene, depsgraph, t=0.0, per_frame=0.0, near=None):
     return tuple(out)
 
 
+def wakers(the_scene, depsgraph, facts, t, per_frame, near, riding):
+    """The objects whose keys move them across the water without floating (the frame's
+    objects in view or mirrored in it whose boxes cross the level, not among `riding`'s
+    names), the MOST_WAKES nearest `near` (a camera's x, y): (name, course, draft, length,
+    beam) each for their wakes (wake_field.course); the draft is how far they reach below
+    the level. Nothing written."""
+    crossing = [o for o in facts.objects if not o.rides and o.name not in riding
+                and o.z_min < 0.0 < o.z_max and o.corners is not None]
+    crossing.sort(key=lambda o: np.hypot(*(o.corners[:, :2].mean(axis=0) - near)))
+    out = []
+    for o in crossing[:MOST_WAKES]:
+        obj = the_scene.objects.get(o.name)
+        if obj is None or obj.type != "MESH":
+            continue
+        axes = np.array(obj.evaluated_get(depsgraph).matrix_world, dtype=np.float64)[:3, :2]
+        length, beam = (float(np.ptp(o.corners @ (a / max(np.linalg.norm(a), 1e-12))))
+                        for a in axes.T)
+        path = course(obj, t, per_frame, tuple(o.corners[:, :2].mean(axis=0)))
+        if path:
+            out.append((o.name, path, -o.z_min, length, beam))
+    return tuple(out)
+
+
 def course(obj, t, per_frame, centre):
     """(times, x, y): where `obj`'s location keys took its footprint's centre (`centre` now,
     x, y) over the past WINDOW seconds up to `t`, on an absolute lattice of COURSE_STEP s

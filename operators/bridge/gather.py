@@ -110,11 +110,15 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     size = shot.render_size(the_scene)
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
     sky_model = sky.model(the_scene.world)
+    near = tuple(cam.position[:2]) if s.wakes != "OFF" else None
     riding = floats.gather(app, the_scene, depsgraph, t, shot.seconds_per_frame(the_scene),
-                           near=tuple(cam.position[:2]) if s.wakes != "OFF" else None)
+                           near=near)
+    wakers = () if near is None else floats.wakers(
+        the_scene, depsgraph, facts, t, shot.seconds_per_frame(the_scene), near,
+        {f.name for f in riding})
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
-           sky_overcast, sky_model, facts.key(), dolly, riding)
+           sky_overcast, sky_model, facts.key(), dolly, riding, wakers)
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
@@ -131,7 +135,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
         ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(
-            the_scene)) if ahead else (), dolly=dolly, floats=riding)
+            the_scene)) if ahead else (), dolly=dolly, floats=riding, wakers=wakers)
     return Gathered(**base, inputs=inputs, key=key)
 
 

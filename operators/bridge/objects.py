@@ -187,7 +187,8 @@ def scene_facts(scene, depsgraph, render, sun, camera, camera_key, level, settin
         direction = tuple(shading.sun_direction(sun.matrix_world))
         elevation = shading.sun_elevation(direction)
     needs_objects = (any(getattr(settings, e) == "AUTO" for e in OBJECT_EFFECTS)
-                     or any(getattr(settings, e) == "ON" for e in ("contact_foam", "caustics")))
+                     or any(getattr(settings, e) == "ON" for e in ("contact_foam", "caustics"))
+                     or settings.wakes != "OFF")  # keyed objects crossing the water: wakes
     objects, objects_key = [], None
     if needs_objects:
         if render:

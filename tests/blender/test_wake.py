@@ -196,3 +196,20 @@ def test_a_marker_camera_sees_the_float_and_its_wake(boat):
     behind = (bare[:, 0] < -10.0) & (bare[:, 0] > -60.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
     assert behind.sum() > 100  # the second camera's grid covers the wake
     assert np.abs(drawn[behind, 2] - bare[behind, 2]).max() > 0.1
+
+
+def test_a_keyed_object_that_does_not_float_leaves_its_wake(boat, bridge):
+    """The box keyed across the water without floating (its keys alone place it, half under):
+    AUTO draws its wake too, behind it and none ahead; at rest, none."""
+    scene, ocean, obj = boat
+    assert bpy.ops.projgrid.unfloat_selected() == {"FINISHED"}
+    bare = mesh_with(scene, ocean, "OFF")
+    drawn = mesh_with(scene, ocean, "AUTO")
+    on, reason = bridge.state.RUNTIME.peek(ocean).effects["wakes"]
+    assert on and "'Cube'" in reason and "5 m/s" in reason, reason
+    behind = (bare[:, 0] < -10.0) & (np.abs(bare[:, 1] - 45.0) < 15.0)
+    ahead = bare[:, 0] > 60.0
+    assert np.abs(drawn[behind, 2] - bare[behind, 2]).max() > 0.1
+    assert np.array_equal(drawn[ahead], bare[ahead])
+    obj.animation_data_clear()
+    assert np.array_equal(mesh_with(scene, ocean, "AUTO"), mesh_with(scene, ocean, "OFF"))
