@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import wake_field
 from .band_limit import lod_for_spacing
 
 SAMPLES = 9  # midpoints each way over the footprint
@@ -62,10 +63,11 @@ def ride(source, t, centre, heading, length, beam, samples=SAMPLES):
     return rides(source, t, [(centre, heading, length, beam)], samples)[0]
 
 
-def rides(source, t, hulls, samples=SAMPLES):
+def rides(source, t, hulls, samples=SAMPLES, wakes=None):
     """`ride` of each of `hulls` ((centre, heading, length, beam) each), their footprints'
     water found at once (one sampling of the sea for all: a call costs the same for 81
-    points as for a thousand)."""
+    points as for a thousand), with the heights of the wakes in `wakes` (per hull, the
+    wake_field.Course whose wakes it rides) added."""
     points, offsets, lods = [], [], []
     for centre, heading, length, beam in hulls:
         length, beam = max(float(length), 1e-3), max(float(beam), 1e-3)
@@ -80,6 +82,8 @@ def rides(source, t, hulls, samples=SAMPLES):
     out = []
     for k, offset in enumerate(offsets):
         here = h[k * samples * samples:(k + 1) * samples * samples]
+        for course in (wakes[k] if wakes else ()):
+            here = here + wake_field.heights(course, points[k]).ravel()
         # The offsets are centred and the lattice symmetric: the fit's terms are independent.
         out.append((float(here.mean()), tuple(float((o @ here) / (o @ o)) for o in offset)))
     return out
@@ -143,16 +147,18 @@ def pose(source, t, world, f):
     return poses(source, t, world, [f])[0]
 
 
-def poses(source, t, world, floats):
+def poses(source, t, world, floats, courses=()):
     """For each float, the world matrix (4 x 4) that carries it from where the scene places it
     onto the sea of the ocean at `world` (its matrix: the sea lies at its level, its waves where
     the world's x, y are, as the grid samples them: the ocean's place across the sea, its
     rotation and scale move no wave) at time t: tilted about its origin onto the plane fitted
     over its footprint (`rides`, `tilt`), lifted so its keel sits `draft` under the water's
-    mean there."""
+    mean there; the wakes of `courses` (wake_field.Course) on the water, but its own."""
     out = []
+    wakes = [[c for c in courses if c.name != f.name] for f in floats]
     for f, (heave, slopes) in zip(floats, rides(source, t, [
-            (f.centre, f.heading, f.length, f.beam) for f in floats]), strict=True):
+            (f.centre, f.heading, f.length, f.beam) for f in floats], wakes=wakes),
+            strict=True):
         lift = float(world[2, 3]) + heave - f.draft - f.keel
         matrix = np.eye(4)
         matrix[:3, :3] = tilt(slopes, f.heading, f.response)

@@ -194,7 +194,8 @@ def plan(inputs):
         foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None, spray=puffs,
         warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3,
         floats=tuple(zip((f.key for f in inputs.floats),
-                         floating.poses(hf, t, inputs.world, inputs.floats), strict=True)))
+                         floating.poses(hf, t, inputs.world, inputs.floats,
+                                        courses if on["wakes"] else ()), strict=True)))
 
 
 def gust_drift(s, per_frame, frame, samples):

@@ -5,7 +5,7 @@ approximation), Archimedes' draft, and the hull against the buoy in a spectral s
 import numpy as np
 import pytest
 
-from projgrid_addon import SeaState, SpectralField, floating
+from projgrid_addon import SeaState, SpectralField, floating, wake_field, wakes
 
 
 class Wave:
@@ -147,3 +147,30 @@ def test_floats_posed_together_are_posed_as_alone():
     together = floating.poses(sea, 7.0, np.eye(4), floats)
     for f, matrix in zip(floats, together, strict=True):
         assert matrix == pytest.approx(floating.pose(sea, 7.0, np.eye(4), f), abs=1e-5)
+
+
+def test_a_float_rides_another_s_wake_and_not_its_own():
+    """On a flat sea a buoy in a passing hull's wake heaves by the wake's mean height over its
+    footprint (wake_field.heights) and tilts with it; the hull rides as if there were no wake
+    (its own is not under it); a float ahead of the hull rides none."""
+    flat, u, t = Wave(0.0, 20.0), 6.0, 60.0
+    times = np.arange(t - wakes.WINDOW, t + 1e-9, 0.1)
+    course = wake_field.course("hull", times, u * times, np.zeros_like(times), 1.0, 10.0, 3.0)
+    x = u * t
+
+    def at(name, cx, cy, length, beam):
+        return floating.Float(key=name, origin=(cx, cy, 0.0), centre=(cx, cy), heading=0.0,
+                              length=length, beam=beam, keel=-0.5, draft=0.3, response=1.0,
+                              name=name)
+    floats = [at("buoy", x - 40.0, 6.0, 1.0, 1.0), at("hull", x, 0.0, 10.0, 3.0),
+              at("ahead", x + 60.0, 0.0, 1.0, 1.0)]
+    rode = floating.poses(flat, t, np.eye(4), floats, [course])
+    still = floating.poses(flat, t, np.eye(4), floats)
+    xy, _ = floating.footprint(floats[0].centre, 0.0, 1.0, 1.0)
+    wake = wake_field.heights(course, xy)
+    assert abs(wake.mean()) > 0.01 and np.ptp(wake) > 0.005, wake  # a wake to ride
+    origin = np.array([*floats[0].origin, 1.0])  # the pose turns about it, lifts it
+    assert (rode[0] @ origin)[2] - (still[0] @ origin)[2] == pytest.approx(wake.mean(),
+                                                                            abs=1e-6)
+    assert not np.allclose(rode[0][:3, :3], np.eye(3), atol=1e-4)  # it tilts with it
+    assert np.array_equal(rode[1], still[1]) and np.array_equal(rode[2], still[2])
