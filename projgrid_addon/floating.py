@@ -63,11 +63,12 @@ def ride(source, t, centre, heading, length, beam, samples=SAMPLES):
     return rides(source, t, [(centre, heading, length, beam)], samples)[0]
 
 
-def rides(source, t, hulls, samples=SAMPLES, wakes=None):
+def rides(source, t, hulls, samples=SAMPLES, wakes=()):
     """`ride` of each of `hulls` ((centre, heading, length, beam) each), their footprints'
     water found at once (one sampling of the sea for all: a call costs the same for 81
-    points as for a thousand), with the heights of the wakes in `wakes` (per hull, the
-    wake_field.Course whose wakes it rides) added."""
+    points as for a thousand), with the heights of `wakes` ((wake_field.Course, the index of
+    the hull that makes it or None) each; read once for every footprint) added but a hull's
+    own."""
     points, offsets, lods = [], [], []
     for centre, heading, length, beam in hulls:
         length, beam = max(float(length), 1e-3), max(float(beam), 1e-3)
@@ -78,12 +79,19 @@ def rides(source, t, hulls, samples=SAMPLES, wakes=None):
                                                           max(length, beam) / samples)))
     if not points:
         return []
-    _, h = water_under(source, np.concatenate(points, axis=1), t, np.concatenate(lods))
+    every = np.concatenate(points, axis=1)
+    _, h = water_under(source, every, t, np.concatenate(lods))
+    n = samples * samples
+    for course, own in wakes:
+        riders = np.ones(every.shape[1], dtype=bool)
+        if own is not None:
+            riders[own * n:(own + 1) * n] = False
+        if riders.any():
+            h = h.copy()
+            h[riders] += wake_field.heights(course, every[:, riders]).ravel()
     out = []
     for k, offset in enumerate(offsets):
-        here = h[k * samples * samples:(k + 1) * samples * samples]
-        for course in (wakes[k] if wakes else ()):
-            here = here + wake_field.heights(course, points[k]).ravel()
+        here = h[k * n:(k + 1) * n]
         # The offsets are centred and the lattice symmetric: the fit's terms are independent.
         out.append((float(here.mean()), tuple(float((o @ here) / (o @ o)) for o in offset)))
     return out
@@ -155,7 +163,8 @@ def poses(source, t, world, floats, courses=()):
     over its footprint (`rides`, `tilt`), lifted so its keel sits `draft` under the water's
     mean there; the wakes of `courses` (wake_field.Course) on the water, but its own."""
     out = []
-    wakes = [[c for c in courses if c.name != f.name] for f in floats]
+    names = [f.name for f in floats]
+    wakes = [(c, names.index(c.name) if c.name in names else None) for c in courses]
     for f, (heave, slopes) in zip(floats, rides(source, t, [
             (f.centre, f.heading, f.length, f.beam) for f in floats], wakes=wakes),
             strict=True):
