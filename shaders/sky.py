@@ -173,7 +173,9 @@ def follow_sun(obj, cloud, sky_model, force=False, matrix=None):
     want = (energy * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud), *colour)
     if any(abs(a - b) > 1e-6 * max(abs(b), 1.0) for a, b in zip(now, want, strict=True)):
         light.energy, light.color = want[0], want[1:]
-    light[LIGHT] = (light.energy, *light.color)
+    kept = (light.energy, *light.color)
+    if last is None or tuple(last) != kept:  # each write would update the scene again
+        light[LIGHT] = kept
 
 
 def aim(obj, elevation=SUN_ELEVATION, azimuth=0.0):
