@@ -79,13 +79,18 @@ def disc_radiance(elevation, model=MODEL):
     return tuple(SKY_SCALE * v / solid_angle for v in _at(MODELS[model][1], elevation))
 
 
+def sun_on_sea(elevation, model=MODEL):
+    """RGB irradiance our sun lamp (`sunlight`) puts on the sea plane `elevation` degrees up."""
+    up = max(math.sin(math.radians(elevation)), 0.0)
+    strength, colour = sunlight(elevation, model)
+    return tuple(strength * c * up for c in colour)
+
+
 def daylight(elevation, model=MODEL):
     """RGB irradiance our sky and sun lamp put on the sea plane with the sun `elevation`
     degrees up."""
-    up = max(math.sin(math.radians(elevation)), 0.0)
-    strength, colour = sunlight(elevation, model)
-    return tuple(s + strength * c * up for s, c in zip(sky_light(elevation, model), colour,
-                                                          strict=True))
+    return tuple(s + u for s, u in zip(sky_light(elevation, model), sun_on_sea(elevation, model),
+                                       strict=True))
 
 
 # The sun's aureole, the light aerosols scatter within a few degrees of it: what a camera sees

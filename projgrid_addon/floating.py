@@ -82,12 +82,13 @@ def rides(source, t, hulls, samples=SAMPLES, wakes=()):
     every = np.concatenate(points, axis=1)
     _, h = water_under(source, every, t, np.concatenate(lods))
     n = samples * samples
+    if wakes:
+        h = h.copy()  # the wakes are added in place
     for course, own in wakes:
         riders = np.ones(every.shape[1], dtype=bool)
         if own is not None:
             riders[own * n:(own + 1) * n] = False
         if riders.any():
-            h = h.copy()
             h[riders] += wake_field.heights(course, every[:, riders]).ravel()
     out = []
     for k, offset in enumerate(offsets):

@@ -32,10 +32,10 @@ def absorption(clarity):
 def sky_irradiance(strength, overcast, elevation=SUN_ELEVATION, model=MODEL):
     """RGB irradiance our sky world (its Sky Texture's `model`) puts on the sea plane at
     Background Strength `strength` with the sun `elevation` degrees up (None: no sun lamp,
-    the sky's default sun), turned
-    `overcast` (0 to 1) toward the overcast: the clear sky's (daylight.sky_light) and the
-    overcast's, whose radiance Z (1 + 2 sin h) / 3 (the CIE standard overcast sky, Z its
-    zenith's: OVERCAST_ZENITH) integrates over the hemisphere, weighed by sin h, to 7 pi / 9 Z."""
+    the sky's default sun), turned `overcast` (0 to 1) toward the overcast: the clear sky's
+    (daylight.sky_light) and the overcast's, whose radiance Z (1 + 2 sin h) / 3 (the CIE
+    standard overcast sky, Z its zenith's: OVERCAST_ZENITH) integrates over the hemisphere,
+    weighed by sin h, to 7 pi / 9 Z."""
     clear = np.asarray(sky_light(SUN_ELEVATION if elevation is None else elevation, model))
     cloud = 7.0 * np.pi / 9.0 * np.asarray(OVERCAST_ZENITH, dtype=np.float64)
     f = min(max(float(overcast), 0.0), 1.0)

@@ -19,7 +19,7 @@ import math
 import bpy
 import numpy as np
 
-from ..projgrid_addon import daylight, optics
+from ..projgrid_addon import daylight, optics, shading
 from ..projgrid_addon.look import OVERCAST_ZENITH, SUN_ELEVATION, WATER_COLOUR
 from .nodes import TAG, Graph, empty_tree, socket
 
@@ -166,11 +166,10 @@ def follow_sun(obj, cloud, sky_model, force=False, matrix=None):
     if not force and last is not None and any(abs(a - b) > 1e-4 * max(abs(b), 1.0)
                                                for a, b in zip(now, last, strict=True)):
         return
-    toward = (obj.matrix_world if matrix is None else matrix).col[2]
-    up = toward[2] / max(toward.length, 1e-12)
-    elevation = math.degrees(math.asin(max(-1.0, min(1.0, up))))
+    elevation = shading.sun_elevation(shading.sun_direction(
+        obj.matrix_world if matrix is None else matrix))
     energy, colour = daylight.sunlight(elevation, sky_model)
-    want = (energy * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud), *colour)
+    want = (energy * _under_cloud(cloud), *colour)
     if any(abs(a - b) > 1e-6 * max(abs(b), 1.0) for a, b in zip(now, want, strict=True)):
         light.energy, light.color = want[0], want[1:]
     kept = (light.energy, *light.color)
@@ -207,14 +206,16 @@ def depths(elevation, cloud, sun, sky_model):
     """RGB radiance of deep water seen from within: the Water Colour Add Ocean gives (in
     DAYLIGHT) times the light on the sea against it (optics.body_light), with the sun
     `elevation` degrees up (if `sun`: a sun lamp shines), under `cloud` (0 to 1)."""
-    sun_light = np.zeros(3)
-    if sun:
-        energy, colour = daylight.sunlight(elevation, sky_model)
-        up = max(math.sin(math.radians(elevation)), 0.0)
-        sun_light = (energy * up * (1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud)) * np.array(colour)
+    sun_light = (_under_cloud(cloud) * np.array(daylight.sun_on_sea(elevation, sky_model))
+                 if sun else 0.0)
     light = optics.body_light(sun_light, optics.sky_irradiance(1.0, cloud, elevation,
                                                                sky_model))
     return tuple(float(c * v) for c, v in zip(WATER_COLOUR, light, strict=True))
+
+
+def _under_cloud(cloud):
+    """Our sun lamp's strength under `cloud` (0 to 1) against a clear sky's."""
+    return 1.0 - (1.0 - SUN_UNDER_CLOUD) * cloud
 
 
 def model(world):
@@ -232,21 +233,21 @@ def aim_sky(world, toward):
     is left alone; a world of ours made before the Sky Texture gets its glow aimed."""
     nodes = world.node_tree.nodes if _ours(world) and world.node_tree is not None else {}
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
-    elevation = math.degrees(math.asin(max(-1.0, min(1.0, values[2]))))
-    sky, disc = nodes.get(SKY), nodes.get(DISC)
+    sky, disc, deep = nodes.get(SKY), nodes.get(DISC), nodes.get(DEPTHS)
+    sky_model = model(world)
+    elevation = shading.sun_elevation(values)
     if sky is not None and toward is not None:
         _set(sky, "sun_elevation", math.radians(elevation))
         _set(sky, "sun_rotation", math.atan2(values[0], values[1]) % (2.0 * math.pi))
     if disc is not None:
         radiance = ((0.0, 0.0, 0.0) if toward is None else
-                    daylight.disc_radiance(elevation, sky.sky_type))
+                    daylight.disc_radiance(elevation, sky_model))
         for input_, value in zip(disc.inputs, radiance, strict=True):
             _set(input_, "default_value", value)
-    deep = nodes.get(DEPTHS)
     if deep is not None and sky is not None:
         shown = math.degrees(sky.sun_elevation) if toward is None else elevation
         for input_, value in zip(deep.inputs, depths(shown, overcast(world), toward is not None,
-                                                     sky.sky_type), strict=True):
+                                                     sky_model), strict=True):
             _set(input_, "default_value", value)
     glow = nodes.get(GLOW)
     for input_, value in zip(glow.inputs if glow is not None else (), values, strict=False):

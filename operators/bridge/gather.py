@@ -111,11 +111,10 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
     sky_model = sky.model(the_scene.world)
     near = tuple(cam.position[:2]) if s.wakes != "OFF" else None
-    riding = floats.gather(app, the_scene, depsgraph, t, shot.seconds_per_frame(the_scene),
-                           near=near)
-    wakers = () if near is None else floats.wakers(
-        the_scene, depsgraph, facts, t, shot.seconds_per_frame(the_scene), near,
-        {f.name for f in riding})
+    per_frame = shot.seconds_per_frame(the_scene)
+    riding = floats.gather(app, the_scene, depsgraph, t, per_frame, near=near)
+    wakers = () if near is None else floats.wakers(the_scene, depsgraph, facts, t, per_frame,
+                                                   near, {f.name for f in riding})
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
            sky_overcast, sky_model, facts.key(), dolly, riding, wakers)
@@ -126,7 +125,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     inputs = frame_plan.FrameInputs(
         settings=s, render=render, resolution=resolution, camera=(cam.view, cam.proj),
         world=world, to_local=to_local, time=t, frame=frame_now,
-        per_frame=shot.seconds_per_frame(the_scene), render_width=size[0], facts=facts,
+        per_frame=per_frame, render_width=size[0], facts=facts,
         sun_light=sun_light, sky_strength=sky_strength, sky_overcast=sky_overcast,
         sky_model=sky_model,
         wind_samples=wind_samples(ocean, frame_now, s),
@@ -134,8 +133,8 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         our_material=our_material(app, surface),
         volume_reach=(float(the_scene.eevee.volumetric_end) if hasattr(the_scene, "eevee")
                       else 100.0),
-        ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, shot.seconds_per_frame(
-            the_scene)) if ahead else (), dolly=dolly, floats=riding, wakers=wakers)
+        ahead=ahead, winds_ahead=winds_ahead(ocean, frame_now, t, per_frame) if ahead else (),
+        dolly=dolly, floats=riding, wakers=wakers)
     return Gathered(**base, inputs=inputs, key=key)
 
 
