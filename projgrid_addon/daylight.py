@@ -111,3 +111,33 @@ def aureole(m, theta):
     disc = math.radians(SUN_SIZE / 2.0)
     fade = m.clamp((2.0 * AUREOLE_EDGE - theta) * (1.0 / AUREOLE_EDGE))
     return math.exp(AUREOLE_KAPPA) * m.pow(m.max(theta, disc) * 1000.0, AUREOLE_GAMMA) * fade
+
+
+# Aerial perspective (Koschmieder 1924): along d metres of air a far object's light falls as
+# e^(-beta d) and the air's own light, the horizon sky's, fills the rest; a dark object's
+# contrast falls to 2 % at the visibility V, so beta = KOSCHMIEDER / V. Clear air sees
+# CLEAR_VISIBILITY (LOWTRAN's and MODTRAN's "clear" meteorological range, 23 km; Kneizys et
+# al. 1988); from Beaufort 7's wind the spray thickens it, exponentially in the wind, to their
+# "hazy" 5 km at Beaufort 10's (the WMO's words: force 9 "spray may affect visibility", 10
+# "visibility affected"; a look anchored to them, not a measured law).
+KOSCHMIEDER = 3.912  # -ln 0.02
+CLEAR_VISIBILITY = 23e3  # m
+SPRAY_VISIBILITY = 5e3  # m
+SPRAY_WINDS = (15.5, 26.5)  # m/s: Beaufort 7's and 10's (sea_states.BEAUFORT)
+
+
+def visibility(wind_speed):
+    """The air's visibility (m) over the sea in a wind of `wind_speed` m/s."""
+    lo, hi = SPRAY_WINDS
+    rise = max(float(wind_speed) - lo, 0.0) / (hi - lo)
+    return CLEAR_VISIBILITY * (SPRAY_VISIBILITY / CLEAR_VISIBILITY) ** rise
+
+
+def haze_extinction(wind_speed):
+    """The air's extinction (per metre) in a wind of `wind_speed` m/s: Koschmieder's."""
+    return KOSCHMIEDER / visibility(wind_speed)
+
+
+def haze(m, extinction, distance):
+    """How far the light seen `distance` m away has given way to the air's (0 to 1)."""
+    return 1.0 - m.exp(extinction * -distance)

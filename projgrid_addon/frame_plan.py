@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import effects, floating, foam, memory, optics, shading, spray, wake_field
+from . import daylight, effects, floating, foam, memory, optics, shading, spray, wake_field
 from .camera import Camera
 from .height_field import HeightField
 from .projected_grid import build_grid
@@ -94,6 +94,7 @@ class FrameInputs:
     sky_strength: float  # the world's strength
     sky_overcast: float  # how far our sky world is turned to the overcast (0 clear, 1 full)
     sky_model: str  # our sky's Sky Texture model (daylight.MODELS)
+    sky_hazes: bool  # the water may draw our sky's light as the air's (sky.hazes)
     wind_samples: tuple | None  # (frames, speeds, directions) of a keyframed wind since 0
     vertices: int  # the drawing mesh's vertices now (memory.check_grid)
     our_material: bool  # the mesh draws our water material (else no slope layer is made)
@@ -129,6 +130,7 @@ class FramePlan:
     layer: tuple | None  # (slopes, lookups, bands, origin) of the slope layer
     absorption: tuple  # per metre, RGB
     light: tuple  # the light on the sea against DAYLIGHT, RGB
+    haze: float  # per m: the air's extinction toward the water (daylight.haze; 0: none)
     drift: tuple  # the gusts' drift along X, Y and its path: (per frame, offset) each
     foam_look: tuple | None  # the water group's foam inputs (foam.foam_look; None: foam off)
     spray: tuple | None  # (positions, radii, opacities) of the spray's puffs (spray.spray)
@@ -190,6 +192,7 @@ def plan(inputs):
         filtering=shading.filtering(cam.proj, inputs.render_width, hf.slopes, s.wind_speed,
                                     s.gusts),
         layer=layer, absorption=optics.absorption(s.clarity), light=light,
+        haze=daylight.haze_extinction(s.wind_speed) if inputs.sky_hazes else 0.0,
         drift=gust_drift(s, inputs.per_frame, inputs.frame, inputs.wind_samples),
         foam_look=foam.foam_look(hf, s.wind_speed) if on["foam"] else None, spray=puffs,
         warning=flat_warning(hf, bound, result, s), ms=(_time.perf_counter() - start) * 1e3,

@@ -89,6 +89,8 @@ INPUTS = (  # name, socket type, default; all but IOR are written by the frame h
     ("Sun Reach", "NodeSocketFloat", 100.0),
     ("Body Reach", "NodeSocketFloat", 1e6),  # m: as far as the water body is drawn (`body_seen`)
     ("Sun Direction", "NodeSocketVector", (0.0, 0.0, 0.0)),  # toward the sun lamp; none: 0
+    ("Haze", "NodeSocketFloat", 0.0),  # per m: the air's extinction (daylight.haze_extinction)
+    ("Overcast", "NodeSocketFloat", 0.0),  # how far our sky is overcast (the haze's light)
     ("Layer Top Log", "NodeSocketFloat", -100.0),
     ("Layer Density", "NodeSocketFloat", 0.0),
     # The slope layer's bands (slope_layer.py): slopes from the material's images, the band
@@ -103,12 +105,14 @@ DEFAULTS = {name: default for name, _, default in INPUTS}
 BODY_FADE = 0.25  # of Body Reach: the water body fades out over it (`body_seen`)
 
 
-def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, layer=()):
+def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, layer=(),
+           haze=0.0, overcast=0.0):
     """The group's float inputs for a frame: the filtering of the waves too short to draw
     (shading.Filtering), the left-out octaves and the ripples (shading.Detail; None: the
     defaults), the wind's direction (radians), the foam's (active, residual and aged shares,
-    streak, blown share: foam.foam_look; None: no foam), and the slope layer's bands ((level,
-    top log, bottom log) each; those missing draw nothing)."""
+    streak, blown share: foam.foam_look; None: no foam), the slope layer's bands ((level,
+    top log, bottom log) each; those missing draw nothing), the air's extinction per metre
+    (0: no haze) and how far our sky is overcast (0 to 1)."""
     f = filtering
     foam = (0.0, 0.0, 0.0, 1.0, 0.0) if foam is None else foam
     out = {
@@ -122,7 +126,7 @@ def values(filtering, detail=None, ripple=None, wind_direction=0.0, foam=None, l
         "Gust Amplitude": f.gust, "Gust Norm": f.gust_norm,
         "Wind Direction": wind_direction, "Foam Coverage": foam[0],
         "Residual Coverage": foam[1], "Aged Coverage": foam[2], "Foam Streak": foam[3],
-        "Blown Coverage": foam[4]}
+        "Blown Coverage": foam[4], "Haze": haze, "Overcast": overcast}
     if detail is not None:
         out.update({"Detail First Octave": detail.first, "Detail Scale": detail.scale,
                     "Detail Octaves": detail.octaves, "Detail Roughness": detail.roughness,

@@ -60,9 +60,7 @@ def world():
     w[TAG] = True
     g = Graph(empty_tree(w))
     direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
-    sky = g.node("ShaderNodeTexSky", sky_type=daylight.MODEL if bpy.app.version >= (5, 0, 0)
-                 else "NISHITA", sun_disc=False, altitude=daylight.SKY_ALTITUDE)
-    sky.name = sky.label = SKY
+    sky = _sky_texture(g, direction)
     toward = g.node("ShaderNodeCombineXYZ")
     toward.name = toward.label = GLOW
     disc = g.node("ShaderNodeCombineXYZ")
@@ -72,8 +70,7 @@ def world():
     sunshape = g.mix(inside, daylight.aureole(g, g.math("ARCCOSINE", g.math("MINIMUM", cos,
                                                                                1.0))), 1.0)
     seen = g.math("MULTIPLY", sunshape, g.node("ShaderNodeLightPath").outputs["Is Camera Ray"])
-    clear = g.vector("ADD", g.vector("SCALE", sky.outputs["Color"], Scale=daylight.SKY_SCALE),
-                     g.vector("SCALE", disc.outputs[0], Scale=seen))
+    clear = g.vector("ADD", sky, g.vector("SCALE", disc.outputs[0], Scale=seen))
     background = g.node("ShaderNodeBackground", {"Color": clear, "Strength": 1.0})
     background.name = BACKGROUND
     output = g.node("ShaderNodeOutputWorld")
@@ -92,6 +89,46 @@ def world():
     return w
 
 
+def _sky_texture(g, direction):
+    """Our sky's radiance toward `direction` in graph `g`: Blender's Sky Texture (node SKY,
+    aimed by `aim_sky`) times daylight.SKY_SCALE."""
+    sky = g.node("ShaderNodeTexSky", {"Vector": direction},
+                 sky_type=daylight.MODEL if bpy.app.version >= (5, 0, 0) else "NISHITA",
+                 sun_disc=False, altitude=daylight.SKY_ALTITUDE)
+    sky.name = sky.label = SKY
+    return g.vector("SCALE", sky.outputs["Color"], Scale=daylight.SKY_SCALE)
+
+
+def _overcast_radiance(g, height, shade):
+    """The overcast's radiance `height` (sin of the elevation, 0 to 1) up: the CIE standard
+    overcast sky's (1 + 2 sin h) / 3 of the zenith's, times the cloud's `shade`."""
+    cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", height, 2.0, 1.0), 3.0)
+    return g.vector("SCALE", OVERCAST_ZENITH, Scale=g.math("MULTIPLY", cie, shade))
+
+
+# The air's light is read this far (sin of the elevation) above the view's mirror image.
+HORIZON_RISE = 0.002
+
+
+def horizon(g, incoming, cloud):
+    """The air's light for the aerial perspective (daylight.haze) in graph `g`: our sky's
+    radiance in the view's direction mirrored up (`incoming`, toward the camera, turned
+    over), as the world draws it, under `cloud` (0 to 1) of overcast (its cloud's mean):
+    along a level view the horizon sky's (Koschmieder's), looking down a steeper, shorter
+    path's, bluer and dimmer, up to the zenith's straight down. Its Sky Texture is aimed with
+    the world's (`aim_sky`'s `trees`)."""
+    away = g.node("ShaderNodeSeparateXYZ", {0: incoming}).outputs
+    up = g.math("ADD", g.math("MAXIMUM", away["Z"], 0.0), HORIZON_RISE)
+    direction = g.vector("NORMALIZE", g.node("ShaderNodeCombineXYZ", {
+        "X": g.math("MULTIPLY", away["X"], -1.0), "Y": g.math("MULTIPLY", away["Y"], -1.0),
+        "Z": up}).outputs[0])
+    height = g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"]
+    return socket(g.node("ShaderNodeMix", {
+        "Factor_Float": cloud, "A_Color": _sky_texture(g, direction),
+        "B_Color": _overcast_radiance(g, height, 1.0)}, data_type="RGBA").outputs,
+        "Result_Color")
+
+
 def _toward(elevation, azimuth):
     """Unit vector toward a sun `elevation` degrees up, shining from `azimuth` (`aim`)."""
     e, a = math.radians(elevation), math.radians(azimuth)
@@ -105,23 +142,23 @@ def _overcast(g):
     clear = colour.links[0].from_socket if colour.links else tuple(colour.default_value)
     direction = g.node("ShaderNodeTexCoord").outputs["Generated"]
     height = g.clamp(g.node("ShaderNodeSeparateXYZ", {0: direction}).outputs["Z"])
-    cie = g.math("DIVIDE", g.math("MULTIPLY_ADD", height, 2.0, 1.0), 3.0)
     base = g.vector("SCALE", direction, Scale=g.math("DIVIDE", 1.0, g.math("MAXIMUM", height,
                                                                              0.02)))
     cloud = g.node("ShaderNodeTexNoise", {"Vector": base, "Scale": CLOUD_SCALE,
                                           "Detail": CLOUD_DETAIL, "Roughness": CLOUD_ROUGHNESS})
     # fading out below 10 degrees up
     shade = cloud_shade(g, g.value(cloud.outputs["Fac"]), g.clamp(g.math("MULTIPLY", height, 6.0)))
-    mix = g.node("ShaderNodeMix", {"Factor_Float": 0.0, "A_Color": clear, "B_Color": g.vector(
-        "SCALE", OVERCAST_ZENITH, Scale=g.math("MULTIPLY", cie, shade))}, data_type="RGBA")
+    mix = g.node("ShaderNodeMix", {"Factor_Float": 0.0, "A_Color": clear,
+                                   "B_Color": _overcast_radiance(g, height, shade)},
+                 data_type="RGBA")
     mix.name = mix.label = OVERCAST
     g.set(colour, socket(mix.outputs, "Result_Color"))
     return mix
 
 
 def _ours(block):
-    """Whether `block` (a world or a lamp) is one we made and may write: not a library's, nor
-    a library override's."""
+    """Whether `block` (a world, a lamp or a node group) is one we made and may write: not a
+    library's, nor a library override's."""
     return (block is not None and bool(block.get(TAG)) and block.library is None
             and block.override_library is None)
 
@@ -194,6 +231,12 @@ def strength(world):
     return float(node.inputs["Strength"].default_value) if node is not None else 1.0
 
 
+def hazes(world):
+    """Whether the water's aerial perspective may draw our sky's light (`horizon`): `world`
+    is ours, with its Sky Texture (another world's light is unknown to the water)."""
+    return _ours(world) and world.node_tree is not None and SKY in world.node_tree.nodes
+
+
 def overcast(world):
     """How far our sky world is turned to the overcast (`weather`; 0 clear, 1 full): its
     Overcast node's factor; another world, or ours from before it had one, 0."""
@@ -227,18 +270,24 @@ def model(world):
         daylight.MODEL)
 
 
-def aim_sky(world, toward):
+def aim_sky(world, toward, trees=()):
     """Aim our world's sky and sun disc at the sun: `toward` the unit vector to it, None
-    without a sun lamp (no disc; the sky keeps its last sun). Another world, or a library's,
-    is left alone; a world of ours made before the Sky Texture gets its glow aimed."""
+    without a sun lamp (no disc; the sky keeps its last sun); and the Sky Texture of each of
+    our node `trees` (the water group's `horizon`). Another world, or a library's, is left
+    alone; a world of ours made before the Sky Texture gets its glow aimed."""
     nodes = world.node_tree.nodes if _ours(world) and world.node_tree is not None else {}
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
     sky, disc, deep = nodes.get(SKY), nodes.get(DISC), nodes.get(DEPTHS)
     sky_model = model(world)
     elevation = shading.sun_elevation(values)
-    if sky is not None and toward is not None:
-        _set(sky, "sun_elevation", math.radians(elevation))
-        _set(sky, "sun_rotation", math.atan2(values[0], values[1]) % (2.0 * math.pi))
+    if toward is not None:
+        sun = (math.radians(elevation), math.atan2(values[0], values[1]) % (2.0 * math.pi))
+    else:  # the trees' skies keep the world's last sun
+        sun = None if sky is None else (sky.sun_elevation, sky.sun_rotation)
+    for node in (sky, *(_ours(t) and t.nodes.get(SKY) for t in trees)):
+        if node and sun is not None:
+            _set(node, "sun_elevation", sun[0])
+            _set(node, "sun_rotation", sun[1])
     if disc is not None:
         radiance = ((0.0, 0.0, 0.0) if toward is None else
                     daylight.disc_radiance(elevation, sky_model))

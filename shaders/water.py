@@ -15,7 +15,8 @@ mean Fresnel over those slopes (Bruneton's fit), which keeps a rough far sea dar
 at the horizon; from under water the exact unpolarised reflectance (Eq. 1.4) for IOR 1.333, in
 the form Blender's Fresnel node uses (total internal reflection when g^2 < 0). The sky is the
 world, or with local reflections our sphere probe's capture; the refraction is the light the water
-scatters back up, lit by the scene (from below, the sky through Snell's window).
+scatters back up, lit by the scene (from below, the sky through Snell's window). Far off, it all
+gives way to the air's light, the horizon sky's (aerial perspective: daylight.haze).
 
 Effects are branches muted while off (a muted mix or add shader passes its first shader on, so
 the branch is neither compiled nor evaluated): foam and refraction (the water colour
@@ -38,6 +39,7 @@ import math
 
 import bpy
 
+from ..projgrid_addon import daylight
 from ..projgrid_addon import water_model as model
 from ..projgrid_addon.look import (
     DAYLIGHT,
@@ -60,7 +62,7 @@ from ..projgrid_addon.look import (
     GUST_SCALE,
 )
 from ..projgrid_addon.water_model import INPUTS, LAYER_BANDS
-from . import built
+from . import built, sky
 from .glint import glint_facets
 from .nodes import TAG, Graph
 
@@ -72,7 +74,7 @@ SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 37  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 38  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -86,6 +88,7 @@ CAUSTIC_ATTRIBUTE = "projgrid_caustics"
 # The node joining a branch to the water, and the effects that need it; muted while none is on.
 EFFECT_NODES = {"Foam": ("foam", "contact_foam", "wakes"), "Refraction": ("refraction",)}
 BODY_NODES = {"Godrays": ("godrays",)}
+HAZE = "Haze"  # the Mix Shader toward the air's light (aerial perspective)
 LAYER_IMAGE = "Projected Grid Slopes"  # and the band's number: a material's own images
 
 
@@ -276,5 +279,13 @@ def _build(group):
     with_foam = g.node("ShaderNodeMixShader", {0: foam, 1: result.outputs[0],
                                                2: cover.outputs[0]})
     with_foam.name = "Foam"
-    g.set(out.inputs["Shader"], with_foam.outputs[0])
+    # Aerial perspective (daylight.haze): from above, the far water's light gives way to the
+    # air's, the horizon sky's in the view's direction (sky.horizon).
+    airlight = g.node("ShaderNodeEmission", {"Color": sky.horizon(g, geo["Incoming"],
+                                                                  i["Overcast"])})
+    hazed = g.node("ShaderNodeMixShader", {
+        0: daylight.haze(g, i["Haze"], distance) * (1.0 - backfacing),
+        1: with_foam.outputs[0], 2: airlight.outputs[0]})
+    hazed.name = HAZE
+    g.set(out.inputs["Shader"], hazed.outputs[0])
     g.set(out.inputs["Fresnel"], fresnel)

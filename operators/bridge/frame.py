@@ -5,7 +5,7 @@ apply.py). A baked ocean plays its bake instead, before anything is gathered (`p
 import bpy
 
 from ...projgrid_addon import frame_plan, shading
-from ...shaders import sky
+from ...shaders import sky, water
 from . import ahead, apply, bake_record, baked, companions, gather, mesh, objects, scene
 from .state import RUNTIME
 
@@ -88,8 +88,10 @@ def update_scene(the_scene, depsgraph, render, frame_change):
         companions.remove_stale_stand_ins(the_scene, apps)
     if apps:
         sun = objects.sun_lamp(the_scene, depsgraph, render)
+        group = bpy.data.node_groups.get((water.GROUP, None))
         sky.aim_sky(the_scene.world,
-                    None if sun is None else shading.sun_direction(sun.matrix_world))
+                    None if sun is None else shading.sun_direction(sun.matrix_world),
+                    () if group is None else (group,))
         if sun is not None:
             sky.follow_sun(sun.original, sky.overcast(the_scene.world),
                            sky.model(the_scene.world), matrix=sun.matrix_world)

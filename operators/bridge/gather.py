@@ -109,7 +109,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
     t = shot.scene_time(the_scene)
     size = shot.render_size(the_scene)
     sky_strength, sky_overcast = sky.strength(the_scene.world), sky.overcast(the_scene.world)
-    sky_model = sky.model(the_scene.world)
+    sky_model, sky_hazes = sky.model(the_scene.world), sky.hazes(the_scene.world)
     near = tuple(cam.position[:2]) if s.wakes != "OFF" else None
     per_frame = shot.seconds_per_frame(the_scene)
     riding = floats.gather(app, the_scene, depsgraph, t, per_frame, near=near)
@@ -117,7 +117,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
                                                    near, {f.name for f in riding})
     key = (render, resolution, camera_key, world.tobytes(), t, s, size,
            surface.data.session_uid if surface is not None else None, sun_light, sky_strength,
-           sky_overcast, sky_model, facts.key(), dolly, riding, wakers)
+           sky_overcast, sky_model, sky_hazes, facts.key(), dolly, riding, wakers)
     if state is not None and key == state.key:
         return Gathered(**base, key=key, unchanged=True)
     frame_now = the_scene.frame_current + the_scene.frame_subframe
@@ -127,7 +127,7 @@ def frame(app, the_scene, depsgraph, render, view=None, values=None, frame_chang
         world=world, to_local=to_local, time=t, frame=frame_now,
         per_frame=per_frame, render_width=size[0], facts=facts,
         sun_light=sun_light, sky_strength=sky_strength, sky_overcast=sky_overcast,
-        sky_model=sky_model,
+        sky_model=sky_model, sky_hazes=sky_hazes,
         wind_samples=wind_samples(ocean, frame_now, s),
         vertices=len(surface.data.vertices) if surface is not None else 0,
         our_material=our_material(app, surface),

@@ -42,7 +42,8 @@ def test_daylight_s_tables_are_blender_s_sky(extension):
 def test_the_sky_and_our_sun_lamp_follow_the_sun(extension):
     """Frame by frame the sky's sun, disc and depths turn with the scene's sun lamp, and our
     lamp takes the sky's sun's colour and strength at its elevation; a colour the user gave
-    our lamp stays theirs; without a sun lamp no disc; a lamp of the user's is never changed."""
+    our lamp stays theirs; without a sun lamp no disc; a lamp of the user's is never changed;
+    the water group's own sky (its haze's) keeps the world's sun."""
     sky, daylight = extension.shaders.sky, extension.projgrid_addon.daylight
     scene = bpy.context.scene
     add_camera(scene)
@@ -68,6 +69,10 @@ def test_the_sky_and_our_sun_lamp_follow_the_sun(extension):
         # the depths below the horizon: the Water Colour in the light there (under water)
         deep = [i.default_value for i in nodes[sky.DEPTHS].inputs]
         assert deep == pytest.approx(sky.depths(elevation, 0.0, True, model), rel=1e-5)
+        # the water's haze reads the same sky (sky.horizon)
+        haze = bpy.data.node_groups["Projected Grid Water"].nodes[sky.SKY]
+        assert (haze.sun_elevation, haze.sun_rotation) == pytest.approx(
+            (s.sun_elevation, s.sun_rotation), abs=1e-5)
 
     check(12.0, 0.0)
     for frame, (elevation, azimuth) in enumerate(((3.0, 0.0), (45.0, 90.0), (0.5, 200.0)), 2):
@@ -83,6 +88,8 @@ def test_the_sky_and_our_sun_lamp_follow_the_sun(extension):
     lamp.hide_render = True
     scene.frame_set(10)
     assert [i.default_value for i in nodes[sky.DISC].inputs] == [0.0, 0.0, 0.0]
+    haze = bpy.data.node_groups["Projected Grid Water"].nodes[sky.SKY]
+    assert math.degrees(haze.sun_elevation) == pytest.approx(30.0, abs=1e-3)  # the world's
     lamp.hide_render = False
     lamp.data = mine = bpy.data.lights.new("My Sun", "SUN")
     mine.energy, mine.color = 4.0, (1.0, 1.0, 1.0)
@@ -128,3 +135,42 @@ def test_a_low_sun_makes_a_sunset_and_a_high_one_a_blue_sky(tmp_path, extension)
     assert ratio[3.0][0] >= 1.4 and ratio[3.0][1] >= 1.3, ratio
     noon = 1.1 if bpy.app.version >= (5, 0, 0) else 1.3
     assert ratio[45.0][0] <= noon and ratio[3.0][1] >= 1.25 * ratio[45.0][1], ratio
+
+
+@pytest.mark.slow
+def test_the_far_water_hazes_toward_the_horizon_sky_as_koschmieder(tmp_path, extension,
+                                                                   monkeypatch):
+    """Aerial perspective in the pixels (linear light): a calm sea under a full overcast from
+    40 m, the visibility made 2 km; per row at slant distance d, the water's light with the
+    haze against without it, each less the air's A (the overcast's in the view's direction
+    mirrored up: sky.horizon), is Koschmieder's e^(-3.912 d / V) within 0.06, from 200 m out
+    to 2 km (measured: within 0.015)."""
+    daylight, sky = extension.projgrid_addon.daylight, extension.shaders.sky
+    scene = bpy.context.scene
+    size, height, pitch = (160, 90), 40.0, -6.0
+    cam = default_shot(scene, size=size, samples=2, height=height, pitch=pitch)
+    bpy.ops.projgrid.sea_state(beaufort=0, weather=False)
+    sky.weather(scene, 1.0)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    rows = {}
+    for frame, visibility in ((10, 2000.0), (11, 1e15)):
+        monkeypatch.setattr(daylight, "CLEAR_VISIBILITY", visibility)
+        scene.frame_set(frame)
+        scene.render.filepath = path = str(tmp_path / f"haze_{frame}.exr")
+        bpy.ops.render.render(write_still=True)
+        px = read(path)
+        rows[visibility] = px[:, size[0] // 3:2 * size[0] // 3].mean(axis=(1, 2))
+    half = math.tan(cam.data.angle / 2.0) * size[1] / size[0]
+    below = np.degrees(np.arctan(((np.arange(size[1]) + 0.5) / size[1] * 2.0 - 1.0) * half))
+    below = below - pitch  # degrees below the horizontal, per row from the top
+    seen = below > 0.5
+    # the air's light: the overcast's (CIE) in the view's direction mirrored up (sky.horizon)
+    rise = np.sin(np.radians(np.maximum(below, 0.0))) + sky.HORIZON_RISE
+    air = float(np.mean(sky.OVERCAST_ZENITH)) * (1.0 + 2.0 * rise / np.hypot(1.0, rise)) / 3.0
+    d = height / np.sin(np.radians(np.where(seen, below, 1.0)))
+    # (where the water is as bright as the air, the ratio says nothing)
+    keep = seen & (d > 200.0) & (d < 2000.0) & (np.abs(rows[1e15] - air) > 0.05)
+    assert keep.sum() >= 15
+    got = (rows[2000.0][keep] - air[keep]) / (rows[1e15][keep] - air[keep])
+    want = np.exp(-daylight.KOSCHMIEDER * d[keep] / 2000.0)
+    assert got == pytest.approx(want, abs=0.06), np.c_[d[keep], got, want]

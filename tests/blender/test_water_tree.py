@@ -266,8 +266,16 @@ def test_the_body_gives_back_its_colour_in_daylight(water, extension):
     bright = {**values, "Water Colour": np.array([0.9, 0.2, 0.9])}
     albedo = Evaluator(bright, 0.0, 10.0, (0.0, 0.0, 1.0)).input(body)
     assert albedo == pytest.approx([1.0, 0.2 * math.pi / water_module.DAYLIGHT[1], 1.0])
-    # Lit, not glowing: nothing in the group emits (a dusk sea would shine in the dark).
-    assert not any(n.bl_idname == "ShaderNodeEmission" for n in node.node_tree.nodes)
+    # Lit, not glowing (a dusk sea would shine in the dark): the one emission is the air's
+    # light of the aerial perspective, our sky's (sky.horizon), into the Haze mix alone.
+    glowing = [n for n in node.node_tree.nodes if n.bl_idname == "ShaderNodeEmission"]
+    assert len(glowing) == 1
+    assert [(k.to_node.name, k.to_socket.identifier) for k in glowing[0].outputs[0].links] == [
+        (water_module.HAZE, "Shader_001")]
+    sky = glowing[0].inputs["Color"].links[0].from_node
+    assert sky.bl_idname == "ShaderNodeMix"  # the clear sky toward the overcast
+    clear = next(i for i in sky.inputs if i.identifier == "A_Color").links[0].from_node
+    assert clear.inputs[0].links[0].from_node.name == extension.shaders.sky.SKY  # times a scale
 
 
 def _described(tree):

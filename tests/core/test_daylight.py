@@ -68,3 +68,22 @@ def test_the_aureole_is_buie_s_sunshape():
     csr = ring / (ring + np.pi * edge * edge)
     assert 0.01 < csr < 0.1, csr
     assert daylight.aureole(NUMPY, 2.0 * daylight.AUREOLE_EDGE) == 0.0  # faded out
+
+
+def test_the_air_hazes_as_koschmieder_with_the_spray_of_a_storm():
+    """Koschmieder's law: at the visibility a dark object keeps 2 % of its contrast against
+    the horizon sky (the light seen gives way to the air's by 0.98), at a tenth of it 1 -
+    0.02^0.1; the visibility is clear air's (23 km) up to Beaufort 7's wind and falls with the
+    spray to hazy air's (5 km) at Beaufort 10's (the WMO's "visibility affected"), each
+    stronger wind hazier."""
+    for wind in (0.0, 9.4, 15.5, 19.0, 26.5, 32.0):
+        v = daylight.visibility(wind)
+        beta = daylight.haze_extinction(wind)
+        assert daylight.haze(NUMPY, beta, v) == pytest.approx(0.98, abs=1e-4)
+        assert daylight.haze(NUMPY, beta, 0.1 * v) == pytest.approx(1.0 - 0.02**0.1, abs=1e-4)
+        assert daylight.haze(NUMPY, beta, 0.0) == 0.0
+    assert daylight.visibility(0.0) == daylight.visibility(15.5) == daylight.CLEAR_VISIBILITY
+    assert daylight.CLEAR_VISIBILITY == 23e3 and daylight.SPRAY_VISIBILITY == 5e3
+    assert daylight.visibility(26.5) == pytest.approx(daylight.SPRAY_VISIBILITY)
+    winds = np.linspace(15.5, 33.0, 8)
+    assert np.all(np.diff([daylight.visibility(w) for w in winds]) < 0.0)

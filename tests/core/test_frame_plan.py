@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from projgrid_addon import HeightField, effects, frame_plan, past_grid, shading
+from projgrid_addon import HeightField, daylight, effects, frame_plan, past_grid, shading
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR
 from projgrid_addon.spectral_field import SpectralField
@@ -31,7 +31,8 @@ def inputs(samples=None, frame=48.0, **settings):
         settings=s, render=False, resolution=(65, 129), camera=(view, proj), world=np.eye(4),
         to_local=np.eye(3), time=frame / 24.0, frame=frame, per_frame=1.0 / 24.0,
         render_width=960, facts=facts, sun_light=(1.0, 1.0, 1.0), sky_strength=1.0,
-        sky_overcast=0.0, sky_model="MULTIPLE_SCATTERING", wind_samples=samples, vertices=0,
+        sky_overcast=0.0, sky_model="MULTIPLE_SCATTERING", sky_hazes=True,
+        wind_samples=samples, vertices=0,
         our_material=True, volume_reach=100.0, ahead=False)
 
 
@@ -133,3 +134,13 @@ def test_a_dolly_s_plan_reads_the_residual_s_past_on_canonical_grids(monkeypatch
         asked.clear()
         plan = frame_plan.plan(replace(inputs(foam="ON", wind_span=keyed), dolly=dolly))
         assert plan.residual.max() > 0.0 and bool(asked) == dolly
+
+
+def test_the_water_hazes_into_our_sky_only():
+    """The air's extinction the plan gives the water: Koschmieder's for the wind's visibility
+    under our sky (daylight.haze_extinction), none under another world, whose light the water
+    does not know."""
+    ours = frame_plan.plan(inputs(wind_speed=26.5))
+    assert ours.haze == pytest.approx(daylight.KOSCHMIEDER / daylight.SPRAY_VISIBILITY)
+    theirs = frame_plan.plan(replace(inputs(wind_speed=26.5), sky_hazes=False))
+    assert theirs.haze == 0.0
