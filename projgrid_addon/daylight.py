@@ -114,8 +114,8 @@ def aureole(m, theta):
 
 
 # Aerial perspective (Koschmieder 1924): along d metres of air a far object's light falls as
-# e^(-beta d) and the air's own light, the horizon sky's, fills the rest; a dark object's
-# contrast falls to 2 % at the visibility V, so beta = KOSCHMIEDER / V. Clear air sees
+# e^(-beta d) and the air's own light (along a level view the horizon sky's) fills the rest; a
+# dark object's contrast falls to 2 % at the visibility V, so beta = KOSCHMIEDER / V. Clear air sees
 # CLEAR_VISIBILITY (LOWTRAN's and MODTRAN's "clear" meteorological range, 23 km; Kneizys et
 # al. 1988); from Beaufort 7's wind the spray thickens it, exponentially in the wind, to their
 # "hazy" 5 km at Beaufort 10's (the WMO's words: force 9 "spray may affect visibility", 10

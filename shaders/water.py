@@ -16,7 +16,7 @@ at the horizon; from under water the exact unpolarised reflectance (Eq. 1.4) for
 the form Blender's Fresnel node uses (total internal reflection when g^2 < 0). The sky is the
 world, or with local reflections our sphere probe's capture; the refraction is the light the water
 scatters back up, lit by the scene (from below, the sky through Snell's window). Far off, it all
-gives way to the air's light, the horizon sky's (aerial perspective: daylight.haze).
+gives way to the air's light, the sky's (aerial perspective: daylight.haze, sky.horizon).
 
 Effects are branches muted while off (a muted mix or add shader passes its first shader on, so
 the branch is neither compiled nor evaluated): foam and refraction (the water colour
@@ -280,7 +280,7 @@ def _build(group):
                                                2: cover.outputs[0]})
     with_foam.name = "Foam"
     # Aerial perspective (daylight.haze): from above, the far water's light gives way to the
-    # air's, the horizon sky's in the view's direction (sky.horizon).
+    # air's, the sky's in the view's direction mirrored up (sky.horizon).
     airlight = g.node("ShaderNodeEmission", {"Color": sky.horizon(g, geo["Incoming"],
                                                                   i["Overcast"])})
     hazed = g.node("ShaderNodeMixShader", {

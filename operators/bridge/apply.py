@@ -99,8 +99,8 @@ def _write_materials(read, plan, surface, in_use):
             plan.ripple, plan.ripple.time_rate * per_frame, plan.filtering, s.water_colour,
             s.foam_colour, s.wind_direction, plan.foam_look,
             plan.layer[2] if plan.layer is not None else (),
-            inputs.facts.sun_direction, plan.drift, inputs.volume_reach,
-            (plan.haze, inputs.sky_overcast))
+            inputs.facts.sun_direction, plan.drift, inputs.volume_reach, plan.haze,
+            inputs.sky_overcast)
         if plan.layer is not None:
             material_inputs.update_layer(material, plan.layer[0], plan.layer[1], plan.layer[3])
     if not inputs.render and not RUNTIME.rendering:

@@ -158,7 +158,7 @@ def material_of(mesh):
 def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_per_frame,
            filtering, water_colour=WATER_COLOUR, foam_colour=FOAM_COLOUR, wind_direction=0.0,
            foam=None, layer=(), sun_direction=None, gust_drift=((0.0, 0.0),) * 3,
-           body_reach=None, haze=(0.0, 0.0)):
+           body_reach=None, haze=0.0, overcast=0.0):
     """A frame's inputs into our water material's group, each written only when it changed:
     which effects are on ({effect: bool}), the left-out octaves as detail (shading.Detail) and
     the ripples (shading.Detail), whose times drivers advance with the frame (subframes
@@ -180,7 +180,8 @@ def update(mat, effects_on, detail, detail_time_per_frame, ripple, ripple_time_p
             node.node_tree = tree = water.node_group()
         set_effects(tree, effects_on, water.EFFECT_NODES)
     inputs = node.inputs
-    values = water_model.values(filtering, detail, ripple, wind_direction, foam, layer, *haze)
+    values = water_model.values(filtering, detail, ripple, wind_direction, foam, layer, haze,
+                                overcast)
     for name, value in values.items():
         if name in inputs:  # a group of an older version until it is rebuilt
             assign(inputs[name], default_value=float(value))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from look_numpy import NUMPY
 
-from projgrid_addon import daylight, look
+from projgrid_addon import daylight, look, sea_states
 
 
 def air_mass(elevation):
@@ -84,6 +84,7 @@ def test_the_air_hazes_as_koschmieder_with_the_spray_of_a_storm():
         assert daylight.haze(NUMPY, beta, 0.0) == 0.0
     assert daylight.visibility(0.0) == daylight.visibility(15.5) == daylight.CLEAR_VISIBILITY
     assert daylight.CLEAR_VISIBILITY == 23e3 and daylight.SPRAY_VISIBILITY == 5e3
+    assert daylight.SPRAY_WINDS == (sea_states.BEAUFORT[7][1], sea_states.BEAUFORT[10][1])
     assert daylight.visibility(26.5) == pytest.approx(daylight.SPRAY_VISIBILITY)
     winds = np.linspace(15.5, 33.0, 8)
     assert np.all(np.diff([daylight.visibility(w) for w in winds]) < 0.0)
