@@ -13,15 +13,18 @@ from ..projgrid_addon.look import (
     WATER_COLOUR,
     body_volume,
 )
+from . import sky
 from .nodes import TAG, Graph, empty_tree, socket
 from .water import (
     BODY_MATERIAL,
     CAUSTIC_ATTRIBUTE,
     CAUSTIC_IMAGE,
     GROUP,
+    HAZE,
     LAYER_BANDS,
     MATERIAL,
     SHADOW_MATERIAL,
+    SPRAY_AIR,
     SPRAY_ATTRIBUTES,
     SPRAY_MATERIAL,
     SPRAY_POINTS,
@@ -65,13 +68,17 @@ def shadow_material(caustic_mean):
     return mat
 
 
+PUFF = "Puff"  # the spray's Mix Shader from clear to the hazed white (its factor: how opaque)
+
+
 def spray_material():
     """The spray's puffs: clouds of droplets, each a sphere of even density, o its opacity
     attribute times SPRAY_OPACITY, as opaque along a ray through it as 1 - (1 - o)^(SPRAY_CHORD
     c) (Beer-Lambert over the chord, c = |normal . view| its share of the diameter), so a puff
     fades out to its rim, its mean over the disc o's for a thin one, instead of ending in a
     hard disc; lit as a level white patch (a droplet cloud scatters light many times: no
-    terminator of a solid ball), the rest passing, casting no shadow."""
+    terminator of a solid ball) seen through the air as the water is (sky.through_air: its
+    object's SPRAY_AIR properties), the rest passing, casting no shadow."""
     mat, g = _versioned_material(SPRAY_MATERIAL)
     if g is None:
         return mat
@@ -82,9 +89,15 @@ def spray_material():
     seen = 1.0 - g.pow(g.max(1.0 - middle, 0.0), chord * SPRAY_CHORD)
     white = g.node("ShaderNodeBsdfDiffuse", {"Color": (*FOAM_COLOUR, 1.0),
                                              "Normal": (0.0, 0.0, 1.0)})
+    haze, cloud = (g.value(g.node("ShaderNodeAttribute", attribute_type="OBJECT",
+                                  attribute_name=name).outputs["Fac"]) for name in SPRAY_AIR)
+    distance = g.value(g.node("ShaderNodeCameraData").outputs["View Distance"])
+    hazed = sky.through_air(g, white.outputs[0], haze, cloud, distance, geo["Incoming"])
     clear = g.node("ShaderNodeBsdfTransparent", {"Color": (1.0, 1.0, 1.0, 1.0)})
+    hazed.name = HAZE
     puff = g.node("ShaderNodeMixShader", {0: g.clamp(seen), 1: clear.outputs[0],
-                                          2: white.outputs[0]})
+                                          2: hazed.outputs[0]})
+    puff.name = PUFF
     g.set(g.node("ShaderNodeOutputMaterial").inputs["Surface"], puff.outputs[0])
     return mat
 

@@ -129,6 +129,15 @@ def horizon(g, incoming, cloud):
         "Result_Color")
 
 
+def through_air(g, shader, extinction, cloud, distance, incoming, fade=1.0):
+    """A Mix Shader in graph `g`: `shader` seen `distance` m away through air of `extinction`
+    per metre (daylight.haze, times `fade`, 0 to 1), the rest the air's light (`horizon`
+    along `incoming` under `cloud`), so the water and the spray above it fade alike."""
+    airlight = g.node("ShaderNodeEmission", {"Color": horizon(g, incoming, cloud)})
+    return g.node("ShaderNodeMixShader", {0: daylight.haze(g, extinction, distance) * fade,
+                                          1: shader, 2: airlight.outputs[0]})
+
+
 def _toward(elevation, azimuth):
     """Unit vector toward a sun `elevation` degrees up, shining from `azimuth` (`aim`)."""
     e, a = math.radians(elevation), math.radians(azimuth)
@@ -273,8 +282,9 @@ def model(world):
 def aim_sky(world, toward, trees=()):
     """Aim our world's sky and sun disc at the sun: `toward` the unit vector to it, None
     without a sun lamp (no disc; the sky keeps its last sun); and the Sky Texture of each of
-    our node `trees` (the water group's `horizon`). Another world, or a library's, is left
-    alone; a world of ours made before the Sky Texture gets its glow aimed."""
+    our node `trees` or materials (`horizon`'s: the water group's, the spray's). Another
+    world, or a library's, is left alone; a world of ours made before the Sky Texture gets its
+    glow aimed."""
     nodes = world.node_tree.nodes if _ours(world) and world.node_tree is not None else {}
     values = (0.0, 0.0, 0.0) if toward is None else tuple(float(v) for v in toward)
     sky, disc, deep = nodes.get(SKY), nodes.get(DISC), nodes.get(DEPTHS)
@@ -284,7 +294,8 @@ def aim_sky(world, toward, trees=()):
         sun = (math.radians(elevation), math.atan2(values[0], values[1]) % (2.0 * math.pi))
     else:  # the trees' skies keep the world's last sun
         sun = None if sky is None else (sky.sun_elevation, sky.sun_rotation)
-    for node in (sky, *(_ours(t) and t.nodes.get(SKY) for t in trees)):
+    for node in (sky, *(_ours(t) and getattr(t, "node_tree", t).nodes.get(SKY)
+                        for t in trees)):
         if node and sun is not None:
             _set(node, "sun_elevation", sun[0])
             _set(node, "sun_rotation", sun[1])

@@ -39,7 +39,6 @@ import math
 
 import bpy
 
-from ..projgrid_addon import daylight
 from ..projgrid_addon import water_model as model
 from ..projgrid_addon.look import (
     DAYLIGHT,
@@ -73,8 +72,11 @@ SHADOW_MATERIAL = "Projected Grid Water Shadow"
 SPRAY_MATERIAL = "Projected Grid Spray"
 SPRAY_POINTS = "Projected Grid Spray Points"  # the geometry nodes drawing the puffs as points
 SPRAY_ATTRIBUTES = ("projgrid_spray_radius", "projgrid_spray_opacity")  # per puff, written
+# on the spray's object each frame: the air's extinction per metre and our sky's overcast (its
+# haze, as the water's "Haze" and "Overcast")
+SPRAY_AIR = ("projgrid_haze", "projgrid_overcast")
 CAUSTIC_IMAGE = "Projected Grid Caustics"  # the godrays' caustic tile (optics.caustic_tile)
-VERSION = 38  # stored in the TAG property; a group or material of another version is rebuilt
+VERSION = 39  # stored in the TAG property; a group or material of another version is rebuilt
 LOD_ATTRIBUTE = "projgrid_lod"  # per-vertex band limit, written by the bridge
 GUST_DRIFT = ("Gust Drift X", "Gust Drift Y", "Gust Path")  # the inputs the drift drives
 # per-vertex sideways displacement (GridResult.drift): the foam's noises are taken where the water
@@ -281,11 +283,8 @@ def _build(group):
     with_foam.name = "Foam"
     # Aerial perspective (daylight.haze): from above, the far water's light gives way to the
     # air's, the sky's in the view's direction mirrored up (sky.horizon).
-    airlight = g.node("ShaderNodeEmission", {"Color": sky.horizon(g, geo["Incoming"],
-                                                                  i["Overcast"])})
-    hazed = g.node("ShaderNodeMixShader", {
-        0: daylight.haze(g, i["Haze"], distance) * (1.0 - backfacing),
-        1: with_foam.outputs[0], 2: airlight.outputs[0]})
+    hazed = sky.through_air(g, with_foam.outputs[0], i["Haze"], i["Overcast"], distance,
+                            geo["Incoming"], 1.0 - backfacing)
     hazed.name = HAZE
     g.set(out.inputs["Shader"], hazed.outputs[0])
     g.set(out.inputs["Fresnel"], fresnel)

@@ -76,7 +76,8 @@ def frame(read, plan, refusal=None):
     companions.place_companions(surface, plan.camera, float(inputs.world[2, 3]), plan.bound,
                                 plan.on, in_use, inputs.volume_reach,
                                 (read.visibility.hidden_render, read.visibility.hidden_viewport))
-    companions.write_spray(surface, plan.spray, float(inputs.world[2, 3]))
+    companions.write_spray(surface, plan.spray, float(inputs.world[2, 3]),
+                           air=(plan.haze, inputs.sky_overcast))
     floats.apply(plan.floats)
     state.ms = plan.ms + (time.perf_counter() - start) * 1e3  # planned and written
     return None

@@ -9,6 +9,7 @@ import bpy
 import numpy as np
 
 from ...shaders import materials as shader_materials
+from ...shaders import water
 from . import material_inputs, scene
 from .baked import baked_companions, body_material, drift_drivers
 from .state import RUNTIME
@@ -21,7 +22,8 @@ SPRAY_KEYS = ("spray_positions", "spray_radii", "spray_opacities", "spray_level"
 COMPANION_PROPS = (("object", "location"), ("object", "rotation_euler"), ("object", "scale"),
                    ("object", "hide_render"),
                    ("object", "hide_viewport"), ("data", "clip_start"), ("data", "clip_end"),
-                   ("data", "parallax_distance"))
+                   ("data", "parallax_distance"),
+                   *(("object", f'["{name}"]') for name in water.SPRAY_AIR))
 
 
 @dataclass
@@ -143,8 +145,9 @@ def _record(recording, frame):
     for companion in baked_companions(obj):
         for owner, prop in COMPANION_PROPS:
             target = companion.data if owner == "data" else companion
-            if hasattr(target, prop):
-                value = getattr(target, prop)
+            custom = prop[2:-2] if prop.startswith('["') else None
+            if (custom in target) if custom else hasattr(target, prop):
+                value = target[custom] if custom else getattr(target, prop)
                 key = (companion.name, f"{owner}.{prop}")
                 recording.companions.setdefault(key, {})[frame] = (
                     tuple(value) if hasattr(value, "__len__") else value)

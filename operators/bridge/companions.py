@@ -247,14 +247,18 @@ def place_companions(obj, cam, level, bound, on, in_use, volume_reach, hidden=(F
                    parallax_distance=reach / half[2])
 
 
-def write_spray(obj, puffs, level, faces=False):
+def write_spray(obj, puffs, level, faces=False, air=None):
     """The spray companion's mesh: a vertex per puff (spray.spray: positions, radii,
     opacities; None: none) with its radius and opacity (with `faces`, a bake's triangle per
     puff: mesh.write_puffs), the object under the puffs' mean at the sea's `level` (so float32
-    offsets stay small)."""
+    offsets stay small); `air`: the haze its material reads (water.SPRAY_AIR: the extinction
+    per metre, the overcast), or None to leave it."""
     cloud = obj.projgrid.spray_cloud
     if cloud is None or not owns(cloud) or not owns(cloud.data):
         return
+    for name, value in zip(water.SPRAY_AIR, air or (), strict=False):
+        if abs(cloud.get(name, -1.0) - value) > 1e-9:
+            cloud[name] = float(value)
     if puffs is None or len(puffs[0]) == 0:
         empty(cloud.data)
         return

@@ -88,10 +88,11 @@ def update_scene(the_scene, depsgraph, render, frame_change):
         companions.remove_stale_stand_ins(the_scene, apps)
     if apps:
         sun = objects.sun_lamp(the_scene, depsgraph, render)
-        group = bpy.data.node_groups.get((water.GROUP, None))
+        trees = (bpy.data.node_groups.get((water.GROUP, None)),
+                 bpy.data.materials.get((water.SPRAY_MATERIAL, None)))
         sky.aim_sky(the_scene.world,
                     None if sun is None else shading.sun_direction(sun.matrix_world),
-                    () if group is None else (group,))
+                    tuple(t for t in trees if t is not None))
         if sun is not None:
             sky.follow_sun(sun.original, sky.overcast(the_scene.world),
                            sky.model(the_scene.world), matrix=sun.matrix_world)

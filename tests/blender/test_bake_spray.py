@@ -5,6 +5,7 @@ import textwrap
 
 import bpy
 import numpy as np
+import pytest
 
 from .helpers import positions, seen_without_extension
 
@@ -28,6 +29,7 @@ SPRAY_SEEN = textwrap.dedent("""
             seen[f"at{frame}"] = at.reshape(n, 3) @ world[:3, :3].T + world[:3, 3]
             seen[f"radius{frame}"], seen[f"opacity{frame}"] = radius, opacity
         seen[f"shown{frame}"] = not cloud.hide_render
+        seen[f"haze{frame}"] = cloud.get("projgrid_haze", 0.0)
     np.savez(out, **seen)
 """)
 
@@ -42,11 +44,12 @@ def _puffs(cloud):
     return positions(cloud.data) @ world[:3, :3].T + world[:3, 3], radius, opacity
 
 
-def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, tmp_path):
+def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, extension,
+                                                              tmp_path):
     """A gale's spray is baked with its sea, the spray keyed off on frame 2: opened in a fresh
     process with no extension, the spray's points at frames 1 and 3 are the puffs the live
-    render of that frame draws, where they were, as large and as opaque, and frame 2 shows
-    none."""
+    render of that frame draws, where they were, as large and as opaque, in the same haze
+    (the air's extinction the live frame gave its material), and frame 2 shows none."""
     scene, obj = moving
     obj.projgrid.wind_speed = 22.0  # a strong gale's: spray
     for frame, mode in ((1, "AUTO"), (2, "OFF"), (3, "AUTO")):
@@ -58,6 +61,8 @@ def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, tmp_
         bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
         want[f] = _puffs(obj.projgrid.spray_cloud)
         assert len(want[f][0]) > 100, f
+    haze = obj.projgrid.spray_cloud["projgrid_haze"]  # Add Ocean's sky: the water's haze
+    assert haze == pytest.approx(extension.projgrid_addon.daylight.haze_extinction(22.0))
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
                                  frame_end=3) == {"FINISHED"}
     seen = seen_without_extension(tmp_path, SPRAY_SEEN)
@@ -67,5 +72,6 @@ def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, tmp_
         assert np.allclose(seen[f"at{f}"], at, atol=2e-3), f
         assert np.allclose(seen[f"radius{f}"], radius, rtol=1e-6), f
         assert np.allclose(seen[f"opacity{f}"], opacity, rtol=1e-6), f
+        assert seen[f"haze{f}"] == pytest.approx(haze), f
     assert not seen["shown2"] and "at2" not in seen.files  # spray off on frame 2: none drawn
     assert not np.allclose(want[1][0][:100], want[3][0][:100])  # the spray moved

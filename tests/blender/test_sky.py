@@ -43,11 +43,12 @@ def test_the_sky_and_our_sun_lamp_follow_the_sun(extension):
     """Frame by frame the sky's sun, disc and depths turn with the scene's sun lamp, and our
     lamp takes the sky's sun's colour and strength at its elevation; a colour the user gave
     our lamp stays theirs; without a sun lamp no disc; a lamp of the user's is never changed;
-    the water group's own sky (its haze's) keeps the world's sun."""
+    the water group's and the spray's own skies (their haze's) keep the world's sun."""
     sky, daylight = extension.shaders.sky, extension.projgrid_addon.daylight
     scene = bpy.context.scene
     add_camera(scene)
     add_ocean()
+    spray = extension.shaders.materials.spray_material().node_tree.nodes[sky.SKY]
     nodes = scene.world.node_tree.nodes
     lamp = next(o for o in scene.objects if o.type == "LIGHT")
     model = sky.model(scene.world)
@@ -70,9 +71,9 @@ def test_the_sky_and_our_sun_lamp_follow_the_sun(extension):
         deep = [i.default_value for i in nodes[sky.DEPTHS].inputs]
         assert deep == pytest.approx(sky.depths(elevation, 0.0, True, model), rel=1e-5)
         # the water's haze reads the same sky (sky.horizon)
-        haze = bpy.data.node_groups["Projected Grid Water"].nodes[sky.SKY]
-        assert (haze.sun_elevation, haze.sun_rotation) == pytest.approx(
-            (s.sun_elevation, s.sun_rotation), abs=1e-5)
+        for haze in (bpy.data.node_groups["Projected Grid Water"].nodes[sky.SKY], spray):
+            assert (haze.sun_elevation, haze.sun_rotation) == pytest.approx(
+                (s.sun_elevation, s.sun_rotation), abs=1e-5)
 
     check(12.0, 0.0)
     for frame, (elevation, azimuth) in enumerate(((3.0, 0.0), (45.0, 90.0), (0.5, 200.0)), 2):

@@ -323,10 +323,13 @@ def test_a_spray_puff_fades_out_to_its_rim(extension):
     """The spray material draws a puff as a sphere of droplets of even density: opaque along a
     ray as Beer-Lambert over the chord through it, 1 - (1 - o)^(1.5 cos), o its opacity (the
     attribute times SPRAY_OPACITY), so it fades to nothing at its rim, its mean over the disc
-    o for a thin puff; lit as a level white patch (the diffuse's normal up), not a ball."""
+    o for a thin puff; lit as a level white patch (the diffuse's normal up), not a ball; seen
+    through the air as the water is: its white gives way to the air's light as
+    1 - exp(-beta d), beta its object's haze property (Koschmieder)."""
     materials, look = extension.shaders.materials, extension.projgrid_addon.look
+    water_module = extension.shaders.water
     tree = materials.spray_material().node_tree
-    mix = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeMixShader")
+    mix = tree.nodes[materials.PUFF]
     diffuse = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfDiffuse")
     assert not diffuse.inputs["Normal"].is_linked
     assert tuple(diffuse.inputs["Normal"].default_value) == pytest.approx((0.0, 0.0, 1.0))
@@ -343,3 +346,12 @@ def test_a_spray_puff_fades_out_to_its_rim(extension):
     r = (np.arange(400) + 0.5) / 400.0  # rings of the disc, weighted by their area
     mean = sum(seen(thin / look.SPRAY_OPACITY, math.sqrt(1.0 - x * x)) * x for x in r) / r.sum()
     assert mean == pytest.approx(thin, rel=0.05)
+    haze = tree.nodes[materials.HAZE]
+    assert mix.inputs[2].links[0].from_node == haze
+    assert haze.inputs[1].links[0].from_node == diffuse
+    glow = haze.inputs[2].links[0].from_node
+    assert glow.bl_idname == "ShaderNodeEmission"
+    air = dict(zip(water_module.SPRAY_AIR, (3.912 / 5000.0, 0.0), strict=True))
+    for d in (0.0, 500.0, 5000.0):
+        assert Evaluator({}, 0.0, d, (0.0, 0.0, 1.0), attributes=air).input(
+            haze.inputs[0]) == pytest.approx(1.0 - math.exp(-3.912 / 5000.0 * d), abs=1e-6)
