@@ -51,13 +51,12 @@ test:
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-4.5 test-5.2
 
 test-5.2: lint
-	$(PY) -m pytest -m "not slow" tests/core
 	$(PY) -m pytest -m "not slow" tests/blender
 	$(PY) -m pytest -m slow tests/blender
 
 test-4.5: $(VENV45)/.blender
-	$(PY45) -m pytest tests/blender
-	$(PY45) -m pytest -m slow tests/core
+	$(PY45) -m pytest -m "not slow or lts" tests/blender
+	$(PY45) -m pytest tests/core
 
 # The inner loop: everything but the slow tests (EEVEE renders, the 10,000-pose suite, the largest
 # grid, the tiling check) on 5.2: about four minutes on a 2-core machine, under three of them the

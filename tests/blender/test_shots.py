@@ -135,6 +135,7 @@ def window_share(scene, slope_variance, ior=1.333, n=121):
     return share
 
 
+@pytest.mark.lts
 @pytest.mark.parametrize("name", SHOTS)
 def test_shot(name, tmp_path, extension):
     path = render_shot(name, tmp_path)

@@ -16,6 +16,7 @@ from .test_shots import linear, read
 
 
 @pytest.mark.slow
+@pytest.mark.lts
 def test_daylight_s_tables_are_blender_s_sky(extension):
     """daylight.py's tables against Blender's Sky Texture measured again (Cycles), for the
     model Add Ocean's world uses in this version: the sky's irradiance on the sea plane and
@@ -112,6 +113,7 @@ def sky_and_glitter(path, horizon_row):
 
 
 @pytest.mark.slow
+@pytest.mark.lts
 def test_a_low_sun_makes_a_sunset_and_a_high_one_a_blue_sky(tmp_path, extension):
     """Looking toward the sun from 6 m: with the sun 3 degrees up the sky just above the horizon
     has red / blue >= 1.4 and the glitter path takes the sun's colour (red / blue >= 1.3, the
@@ -139,6 +141,7 @@ def test_a_low_sun_makes_a_sunset_and_a_high_one_a_blue_sky(tmp_path, extension)
 
 
 @pytest.mark.slow
+@pytest.mark.lts
 def test_the_far_water_hazes_toward_the_horizon_sky_as_koschmieder(tmp_path, extension,
                                                                    monkeypatch):
     """Aerial perspective in the pixels (linear light): a calm sea under a full overcast from
