@@ -9,6 +9,7 @@ import pytest
 from look_numpy import NUMPY
 
 from projgrid_addon import daylight, look, sea_states
+from projgrid_addon.spectrum import integrate
 
 
 def air_mass(elevation):
@@ -64,7 +65,7 @@ def test_the_aureole_is_buie_s_sunshape():
         np.exp(daylight.AUREOLE_KAPPA) * (1000.0 * theta) ** daylight.AUREOLE_GAMMA)
     edge = math.radians(daylight.SUN_SIZE / 2.0)
     t = np.linspace(edge, daylight.AUREOLE_EDGE, 20001)
-    ring = np.trapezoid(daylight.aureole(NUMPY, t) * 2.0 * np.pi * t, t)
+    ring = integrate(daylight.aureole(NUMPY, t) * 2.0 * np.pi * t, t)
     csr = ring / (ring + np.pi * edge * edge)
     assert 0.01 < csr < 0.1, csr
     assert daylight.aureole(NUMPY, 2.0 * daylight.AUREOLE_EDGE) == 0.0  # faded out

@@ -10,7 +10,7 @@ from projgrid_addon import HeightField, daylight, effects, frame_plan, past_grid
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.look import FOAM_COLOUR, WATER_COLOUR
 from projgrid_addon.spectral_field import SpectralField
-from projgrid_addon.spectrum import SeaState
+from projgrid_addon.spectrum import SeaState, integrate
 
 SEA = dict(resolution_x=65, resolution_y=129, render_resolution_x=65, render_resolution_y=129,
            noise_from_wind=True, amplitude=0.5, wave_scale=40.0, octaves=8, roughness=0.5,
@@ -75,7 +75,7 @@ def test_the_gusts_drift_by_the_wind_s_run():
     run = shading.wind_run(frames / 24.0, speeds, directions)
     for (rate, offset), want in zip(drift, run, strict=True):
         assert offset + 48.0 * rate == pytest.approx(want)
-    x = np.trapezoid(speeds * np.cos(directions), frames / 24.0)
+    x = integrate(speeds * np.cos(directions), frames / 24.0)
     assert run[0] == pytest.approx(x, rel=1e-3)
 
 

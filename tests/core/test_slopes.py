@@ -17,7 +17,7 @@ from projgrid_addon.camera import orthographic, perspective
 from projgrid_addon.cascade import BANDS, LAYER_FIRST, band_level, band_shares, bands
 from projgrid_addon.look import GUST_FAC_STD, GUST_SCALE
 from projgrid_addon.spectral_field import SpectralField
-from projgrid_addon.spectrum import GRAVITY, SeaState
+from projgrid_addon.spectrum import GRAVITY, SeaState, integrate
 
 
 def drawn_slope(detail):
@@ -144,7 +144,7 @@ def spectrum_slopes(state, shortest, longest=2e4, samples=20_000):
     k = np.geomspace(2 * np.pi / longest, 2 * np.pi / shortest, samples)
     w = np.sqrt(GRAVITY * k)
     s = spectrum.wind_spectrum(w, state) + spectrum.swell_spectrum(w, state)
-    return float(np.trapezoid(k * k * s * np.gradient(w, k), k))
+    return float(integrate(k * k * s * np.gradient(w, k), k))
 
 
 @pytest.mark.parametrize("u", [3.0, 6.0, 10.0, 15.0, 20.0])
