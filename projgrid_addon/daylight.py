@@ -115,20 +115,22 @@ def aureole(m, theta):
 
 # Aerial perspective (Koschmieder 1924): along d metres of air a far object's light falls as
 # e^(-beta d) and the air's own light (along a level view the horizon sky's) fills the rest; a
-# dark object's contrast falls to 2 % at the visibility V, so beta = KOSCHMIEDER / V. Clear air sees
-# CLEAR_VISIBILITY (LOWTRAN's and MODTRAN's "clear" meteorological range, 23 km; Kneizys et
-# al. 1988); from Beaufort 7's wind the spray thickens it, exponentially in the wind, to one
-# nautical mile at Beaufort 10's: the geometric middle of "poor" visibility in the marine
-# forecasts' terms (Joint IMO/IHO/WMO Manual on Maritime Safety Information, MSC.1/Circ.1310
-# 8.5.4: poor 0.5-2, moderate 2-5, good over 5 nautical miles), so each force's visibility is
-# in the class the WMO's words for it name: force 8 none (good), 9 "spray may affect
-# visibility" (moderate), 10 "visibility affected" (poor). A look anchored to them, not a
-# measured law.
+# dark object's contrast falls to 2 % at the meteorological range V, so beta = KOSCHMIEDER / V
+# (and to 5 % at the WMO's meteorological optical range, the visibility marine forecasts
+# give: OPTICAL_RANGE / beta). Clear air's V is CLEAR_VISIBILITY (LOWTRAN's and MODTRAN's
+# "clear" meteorological range, 23 km; Kneizys et al. 1988); from Beaufort 7's wind the spray
+# thickens it, exponentially in the wind, to an optical range of one nautical mile at Beaufort
+# 10's: the geometric middle of "poor" visibility in the marine forecasts' terms (Joint
+# IMO/IHO/WMO Manual on Maritime Safety Information, MSC.1/Circ.1310 8.5.4: poor 0.5-2,
+# moderate 2-5, good over 5 nautical miles), so force 9 ("spray may affect visibility") sees
+# a moderate 4.1 km and 10 ("visibility affected") a poor 1.9 km. A look anchored to the
+# WMO's words, not a measured law.
 KOSCHMIEDER = 3.912  # -ln 0.02
+OPTICAL_RANGE = 2.996  # -ln 0.05
 NAUTICAL_MILE = 1852.0  # m
 VISIBILITY_CLASSES = {"poor": (0.5, 2.0), "moderate": (2.0, 5.0), "good": (5.0, math.inf)}
 CLEAR_VISIBILITY = 23e3  # m
-SPRAY_VISIBILITY = NAUTICAL_MILE
+SPRAY_VISIBILITY = NAUTICAL_MILE * KOSCHMIEDER / OPTICAL_RANGE  # m: an optical range of 1 nmi
 SPRAY_WINDS = (15.5, 26.5)  # m/s: Beaufort 7's and 10's (sea_states.BEAUFORT)
 
 
@@ -137,6 +139,12 @@ def visibility(wind_speed):
     lo, hi = SPRAY_WINDS
     rise = max(float(wind_speed) - lo, 0.0) / (hi - lo)
     return CLEAR_VISIBILITY * (SPRAY_VISIBILITY / CLEAR_VISIBILITY) ** rise
+
+
+def optical_range(wind_speed):
+    """The WMO's meteorological optical range (m), the visibility marine forecasts give, in a
+    wind of `wind_speed` m/s."""
+    return OPTICAL_RANGE / haze_extinction(wind_speed)
 
 
 def haze_extinction(wind_speed):

@@ -228,7 +228,7 @@ def test_spray_shows_in_eevee_and_cycles(tmp_path, extension):
             shots[mode] = luminance(read(scene.render.filepath))
         change = shots["AUTO"] - shots["OFF"]
         brighter, darker = (change > 0.05).mean(), (change < -0.05).mean()
-        # (5.2 measured EEVEE 0.0021 against 0.0005, Cycles 0.0062 against 0.0004: the far
+        # (5.2 measured EEVEE 0.0025 against 0.0008, Cycles 0.0075 against 0.0003: the far
         # puffs fade into the storm's haze, a nautical mile's visibility, as the far water
         # does: daylight.haze)
         assert brighter > 0.0015 and brighter > 1.2 * darker, (engine, brighter, darker)

@@ -75,9 +75,9 @@ def test_the_air_hazes_as_koschmieder_with_the_spray_of_a_storm():
     """Koschmieder's law: at the visibility a dark object keeps 2 % of its contrast against
     the horizon sky (the light seen gives way to the air's by 0.98), at a tenth of it 1 -
     0.02^0.1; the visibility is clear air's (23 km) up to Beaufort 7's wind and falls with the
-    spray, each stronger wind hazier, through the marine forecasts' classes the WMO's words
-    name: Beaufort 8 good (no word of it), 9 moderate ("spray may affect visibility"), 10
-    poor ("visibility affected"), one nautical mile there."""
+    spray, each stronger wind hazier, into the marine forecasts' classes (of the optical
+    range, 5 % contrast) the WMO's words name: Beaufort 9 moderate ("spray may affect
+    visibility"), 10 poor ("visibility affected"), one nautical mile there."""
     for wind in (0.0, 9.4, 15.5, 19.0, 26.5, 32.0):
         v = daylight.visibility(wind)
         beta = daylight.haze_extinction(wind)
@@ -85,14 +85,20 @@ def test_the_air_hazes_as_koschmieder_with_the_spray_of_a_storm():
         assert daylight.haze(NUMPY, beta, 0.1 * v) == pytest.approx(1.0 - 0.02**0.1, abs=1e-4)
         assert daylight.haze(NUMPY, beta, 0.0) == 0.0
     assert daylight.visibility(0.0) == daylight.visibility(15.5) == daylight.CLEAR_VISIBILITY
-    assert daylight.CLEAR_VISIBILITY == 23e3 and daylight.SPRAY_VISIBILITY == 1852.0
+    assert daylight.CLEAR_VISIBILITY == 23e3
     assert daylight.SPRAY_WINDS == (sea_states.BEAUFORT[7][1], sea_states.BEAUFORT[10][1])
     assert daylight.visibility(26.5) == pytest.approx(daylight.SPRAY_VISIBILITY)
+    # the optical range: where the contrast falls to 5 %
+    for wind in (0.0, 22.6):
+        beta = daylight.haze_extinction(wind)
+        assert daylight.haze(NUMPY, beta, daylight.optical_range(wind)) == pytest.approx(
+            0.95, abs=1e-4)
+    assert daylight.optical_range(26.5) == pytest.approx(1852.0)
     assert daylight.VISIBILITY_CLASSES == {"poor": (0.5, 2.0), "moderate": (2.0, 5.0),
                                            "good": (5.0, math.inf)}
-    for force, named in ((7, "good"), (8, "good"), (9, "moderate"), (10, "poor")):
+    for force, named in ((7, "good"), (9, "moderate"), (10, "poor")):
         lo, hi = daylight.VISIBILITY_CLASSES[named]
-        miles = daylight.visibility(sea_states.BEAUFORT[force][1]) / 1852.0
+        miles = daylight.optical_range(sea_states.BEAUFORT[force][1]) / 1852.0
         assert lo < miles < hi, (force, miles)
     winds = np.linspace(15.5, 33.0, 8)
     assert np.all(np.diff([daylight.visibility(w) for w in winds]) < 0.0)
