@@ -41,12 +41,12 @@ $(VENV45)/.blender: requirements/blender-4.5.txt
 	$(PY45) $(PIP) -r requirements/blender-4.5.txt
 	touch $@
 
-# Every test: lint, the core and the Blender tests on 5.2, the Blender tests again on 4.5 LTS.
-# On CI's two cores, two lanes of about equal length side by side, each installing its own
-# Blender first (the two downloads overlap): 5.2's (lint, the core's tests but the slow ones,
-# the Blender tests that render no shots, then the shots) and 4.5's (its Blender tests, then the
-# core's slow ones: the stability suite, on 4.5's numpy<2). Each lane's output is printed whole
-# when it ends.
+# Every test: lint and the Blender tests on 5.2; the Blender tests again on 4.5 LTS but the
+# renders not marked lts, and the core's. On CI's two cores, two lanes of about equal length
+# side by side, each installing its own Blender first (the two downloads overlap): 5.2's (lint,
+# the Blender tests that render no shots, then the shots) and 4.5's (its Blender tests and the
+# lts renders: its references, its sky, its bake export; then the whole core suite, on 4.5's
+# numpy<2). Each lane's output is printed whole when it ends.
 test:
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-4.5 test-5.2
 

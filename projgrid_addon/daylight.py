@@ -123,28 +123,22 @@ def aureole(m, theta):
 # 10's: the geometric middle of "poor" visibility in the marine forecasts' terms (Joint
 # IMO/IHO/WMO Manual on Maritime Safety Information, MSC.1/Circ.1310 8.5.4: poor 0.5-2,
 # moderate 2-5, good over 5 nautical miles), so force 9 ("spray may affect visibility") sees
-# a moderate 4.1 km and 10 ("visibility affected") a poor 1.9 km. A look anchored to the
-# WMO's words, not a measured law.
+# a moderate 4.1 km and 10 ("visibility affected") a poor 1.9 km (test_daylight.py). A look
+# anchored to the WMO's words, not a measured law.
 KOSCHMIEDER = 3.912  # -ln 0.02
 OPTICAL_RANGE = 2.996  # -ln 0.05
 NAUTICAL_MILE = 1852.0  # m
-VISIBILITY_CLASSES = {"poor": (0.5, 2.0), "moderate": (2.0, 5.0), "good": (5.0, math.inf)}
 CLEAR_VISIBILITY = 23e3  # m
 SPRAY_VISIBILITY = NAUTICAL_MILE * KOSCHMIEDER / OPTICAL_RANGE  # m: an optical range of 1 nmi
 SPRAY_WINDS = (15.5, 26.5)  # m/s: Beaufort 7's and 10's (sea_states.BEAUFORT)
 
 
 def visibility(wind_speed):
-    """The air's visibility (m) over the sea in a wind of `wind_speed` m/s."""
+    """The air's meteorological range (m, 2 % contrast) over the sea in a wind of `wind_speed`
+    m/s."""
     lo, hi = SPRAY_WINDS
     rise = max(float(wind_speed) - lo, 0.0) / (hi - lo)
     return CLEAR_VISIBILITY * (SPRAY_VISIBILITY / CLEAR_VISIBILITY) ** rise
-
-
-def optical_range(wind_speed):
-    """The WMO's meteorological optical range (m), the visibility marine forecasts give, in a
-    wind of `wind_speed` m/s."""
-    return OPTICAL_RANGE / haze_extinction(wind_speed)
 
 
 def haze_extinction(wind_speed):

@@ -18,7 +18,8 @@ SCRATCH = "Projected Grid Bake Scratch"
 SPRAY_KEYS = ("spray_positions", "spray_radii", "spray_opacities", "spray_level")
 
 
-# What our companions are given each frame (companions.place_companions): keyed where it changes.
+# What our companions are given each frame (companions.place_companions, and the spray's air by
+# companions.write_spray): keyed where it changes.
 COMPANION_PROPS = (("object", "location"), ("object", "rotation_euler"), ("object", "scale"),
                    ("object", "hide_render"),
                    ("object", "hide_viewport"), ("data", "clip_start"), ("data", "clip_end"),

@@ -256,9 +256,14 @@ def write_spray(obj, puffs, level, faces=False, air=None):
     cloud = obj.projgrid.spray_cloud
     if cloud is None or not owns(cloud) or not owns(cloud.data):
         return
+    if air is not None:
+        shader_materials.spray_points()  # a file's older spray material rebuilt in place
+    changed = False
     for name, value in zip(water.SPRAY_AIR, air or (), strict=False):
         if abs(cloud.get(name, -1.0) - value) > 1e-9:
-            cloud[name] = float(value)
+            cloud[name], changed = float(value), True
+    if changed:  # a custom property's write alone does not reach the shader's copy
+        cloud.update_tag()
     if puffs is None or len(puffs[0]) == 0:
         empty(cloud.data)
         return

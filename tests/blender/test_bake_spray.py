@@ -55,12 +55,20 @@ def test_a_baked_gale_plays_its_spray_without_the_extension(moving, bridge, exte
     for frame, mode in ((1, "AUTO"), (2, "OFF"), (3, "AUTO")):
         obj.projgrid.spray = mode
         obj.projgrid.keyframe_insert("spray", frame=frame)
+    # a file's spray of an older version: its points' tree and material rebuilt, hazed
+    water, materials = extension.shaders.water, extension.shaders.materials
+    old = (bpy.data.node_groups[water.SPRAY_POINTS], bpy.data.materials[water.SPRAY_MATERIAL])
+    for block in old:
+        block[extension.shaders.nodes.TAG] = water.VERSION - 1
+    old[1].node_tree.nodes.remove(old[1].node_tree.nodes[materials.HAZE])
     want = {}
     for f in (1, 3):
         scene.frame_set(f)
         bridge.frame.update_ocean(obj, scene, bpy.context.evaluated_depsgraph_get(), render=True)
         want[f] = _puffs(obj.projgrid.spray_cloud)
         assert len(want[f][0]) > 100, f
+    assert materials.HAZE in old[1].node_tree.nodes and all(
+        block[extension.shaders.nodes.TAG] == water.VERSION for block in old)
     haze = obj.projgrid.spray_cloud["projgrid_haze"]  # Add Ocean's sky: the water's haze
     assert haze == pytest.approx(extension.projgrid_addon.daylight.haze_extinction(22.0))
     assert bpy.ops.projgrid.bake(filepath=str(tmp_path / "sea.usdc"), frame_start=1,
