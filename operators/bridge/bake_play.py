@@ -20,6 +20,7 @@ from .baked import (
     drift_drivers,
     play_caustic_sequence,
     play_layer_sequences,
+    set_path,
 )
 from .state import RUNTIME
 
@@ -177,10 +178,10 @@ def _key_frames(target, prop, frames, value=lambda v: v):
     agree (the scene's live viewport frame may have written its own since), else keyed on
     each frame: returns whether it was keyed."""
     if len(set(frames.values())) < 2:
-        _set(target, prop, value(next(iter(frames.values()))))
+        set_path(target, prop, value(next(iter(frames.values()))))
         return False
     for frame, recorded in sorted(frames.items()):
-        _set(target, prop, value(recorded))
+        set_path(target, prop, value(recorded))
         target.keyframe_insert(prop, frame=frame)
     return True
 
@@ -190,14 +191,6 @@ def _hold(curves):
     for curve in curves:
         for point in curve.keyframe_points:
             point.interpolation = "CONSTANT"
-
-
-def _set(target, path, value):
-    """Set a property or (path '["name"]') a custom property of `target`."""
-    if path.startswith('["'):
-        target[path[2:-2]] = value
-    else:
-        setattr(target, path, value)
 
 
 def _follow(companion, ocean, prop):

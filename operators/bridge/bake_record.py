@@ -11,7 +11,7 @@ import numpy as np
 from ...shaders import materials as shader_materials
 from ...shaders import water
 from . import material_inputs, scene
-from .baked import baked_companions, body_material, drift_drivers
+from .baked import baked_companions, body_material, drift_drivers, get_path
 from .state import RUNTIME
 
 SCRATCH = "Projected Grid Bake Scratch"
@@ -146,9 +146,8 @@ def _record(recording, frame):
     for companion in baked_companions(obj):
         for owner, prop in COMPANION_PROPS:
             target = companion.data if owner == "data" else companion
-            custom = prop[2:-2] if prop.startswith('["') else None
-            if (custom in target) if custom else hasattr(target, prop):
-                value = target[custom] if custom else getattr(target, prop)
+            value = get_path(target, prop)
+            if value is not None:
                 key = (companion.name, f"{owner}.{prop}")
                 recording.companions.setdefault(key, {})[frame] = (
                     tuple(value) if hasattr(value, "__len__") else value)

@@ -23,6 +23,21 @@ FOLLOW = {"hide_render": "projgrid_bake_hide_render",  # the recorded visibility
           "hide_viewport": "projgrid_bake_hide_viewport"}
 
 
+def get_path(target, path):
+    """A property of `target`, or (path '["name"]') its custom property; None if it has none."""
+    if path.startswith('["'):
+        return target.get(path[2:-2])
+    return getattr(target, path, None)
+
+
+def set_path(target, path, value):
+    """Set a property or (path '["name"]') a custom property of `target`."""
+    if path.startswith('["'):
+        target[path[2:-2]] = value
+    else:
+        setattr(target, path, value)
+
+
 def cache_modifier(obj):
     """Our Mesh Sequence Cache modifier on `obj`, or None: the ocean plays its bake."""
     mod = obj.modifiers.get(MODIFIER)
