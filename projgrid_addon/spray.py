@@ -209,10 +209,15 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     when = k * STEP
     ix, iy, xy = _joined([sites(*b, ring) for b in near], axis=-1)
     level, thresholds = foam.crest_calibration(source, when, wind_speed)
+    # a site launches if its draw is below its share (at most 1) times the rate: the cue is
+    # taken only where the draw is below the rate (a gale's rate skips three sites in four)
+    draw, rate = noise.uniforms(_salt(seed, ring, 3), ix, iy, k), spray_rate(wind_speed)
+    hit = draw < rate
     # from the world's origin: a block's launches are the same whatever blocks join them
-    cue = source.foam_cue(xy, when, np.full(ix.shape, level, np.float32), origin=(0.0, 0.0))
-    share = foam.at_thresholds(level, thresholds)(cue)
-    hit = noise.uniforms(_salt(seed, ring, 3), ix, iy, k) < share * spray_rate(wind_speed)
+    if hit.any():
+        cue = source.foam_cue(xy[:, hit], when, np.full(int(hit.sum()), level, np.float32),
+                              origin=(0.0, 0.0))
+        hit[hit] = draw[hit] < foam.at_thresholds(level, thresholds)(cue) * rate
     block = np.repeat(np.arange(len(near)), BLOCK * BLOCK)[hit]
     at = np.flatnonzero(hit)
     dx, dy, h = surface(source, xy[:, at], when) if at.size else (0.0, 0.0, np.zeros(0))
