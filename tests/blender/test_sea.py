@@ -48,6 +48,7 @@ def test_a_keyed_wind_keeps_its_tiles(sea, bridge):
     (scene.wind_span, a function of the keyframes, not of the frame), so its tiles stay and
     only their heights follow the wind; unkeyed, the span is gone."""
     s, scene = sea.projgrid, bpy.context.scene
+    s.foam = "OFF"  # the tiles' layout alone: no whitecaps calibrated for each frame's seas
     s.wind_speed = 8.0
     s.keyframe_insert("wind_speed", frame=1)
     s.wind_speed = 10.0
@@ -81,6 +82,9 @@ def test_a_keyed_wind_s_coming_seas_are_calibrated_ahead(sea, bridge, extension,
     monkeypatch.setattr(bridge.ahead, "calibrate", lambda *a: (handed.append(a), calibrate(*a)))
     monkeypatch.setattr(foam.CALIBRATIONS, "reserve", lambda sea_, keys: (
         reserved.append(sea_.state.wind_speed), reserve(sea_, keys))[1])
+    # what is asked of the worker, not its making: each reserved calibration handed back
+    monkeypatch.setattr(bridge.ahead, "_make", lambda twin, sea_, key: foam.CALIBRATIONS.release(
+        sea_, key))
     scene.frame_set(13)  # 0.54 s in: the coming seconds are 1 and 2 (frames 24 and 48)
     bridge.ahead.finish()
     curve = next(c for c in bridge.scene.bag_curves(sea) if c.data_path == "projgrid.wind_speed")

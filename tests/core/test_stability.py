@@ -21,7 +21,7 @@ from .poses import POP, POPPING, check_pose, fresh_poses, poses
 
 __all__ = ["POPPING"]  # read by tests/conftest.py's summary
 
-EXAMPLES = 10_000
+EXAMPLES = 5_000
 # The fresh-seed batch: about 15 s on CI's two cores.
 FRESH = 2_000
 
