@@ -114,9 +114,9 @@ def section(report):
         why = ("each wake is read at every vertex it reaches (about a quarter of a "
                "microsecond a vertex: its place along and across the course, then the steady "
                "wake at two Froude numbers, near and far), some 75,000 of the render grid's "
-               "for a boat crossing the view. Next: read it on every other row and column "
-               "where the grid is finer than its waves need, as the sea's bands are "
-               "(band_limit.fill_every_other)")
+               "for a boat crossing the view; on every other row and column only where the "
+               "grid is finer than a 32nd of its transverse wave (wake_field.read_grid: here "
+               "a quarter of the viewport grid's vertices, two thirds of the render grid's)")
         report.targets += [
             Target(f"One boat's wake ≤ 1.3× the frame without it ({grid})", f"{one:.2f}×",
                    one <= 1.3, f"**One wake ({grid}).** {one:.2f}× the frame without it: "
