@@ -120,12 +120,15 @@ def read_grid(course, x, y, lod, waves):
     coarse = np.empty((2, *every_other_shape(x.shape)))
     every_other_of(x, coarse[0])
     every_other_of(y, coarse[1])
-    out = [fill_every_other(v, np.empty(x.shape, np.float32))
-           for v in read(course, coarse, foam=True)]
     rest = ~fine
-    for whole, part in zip(out, read(course, np.stack([x[rest], y[rest]]), foam=True),
-                           strict=True):
-        whole[rest] = part
+    # one read of both sets: the course's places found once, on a raster over them all
+    n = coarse[0].size
+    got = read(course, np.concatenate([coarse.reshape(2, -1), np.stack([x[rest], y[rest]])],
+                                      axis=1), foam=True)
+    out = [fill_every_other(v[:n].reshape(coarse.shape[1:]), np.empty(x.shape, np.float32))
+           for v in got]
+    for whole, part in zip(out, got, strict=True):
+        whole[rest] = part[n:]
     return out
 
 
