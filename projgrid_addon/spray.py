@@ -209,10 +209,11 @@ def launches(source, near, k, wind_speed, wind_direction, seed=0, ring=0):
     when = k * STEP
     ix, iy, xy = _joined([sites(*b, ring) for b in near], axis=-1)
     level, thresholds = foam.crest_calibration(source, when, wind_speed)
-    # a site launches if its draw is below its share (at most 1) times the rate: the cue is
-    # taken only where the draw is below the rate (a gale's rate skips three sites in four)
+    # a site launches if its draw is below its share (at most 1) times the rate, in single
+    # precision: the cue is taken only where the draw is below the rate (a gale's rate skips
+    # three sites in four)
     draw, rate = noise.uniforms(_salt(seed, ring, 3), ix, iy, k), spray_rate(wind_speed)
-    hit = draw < rate
+    hit = draw < np.float32(rate)
     # from the world's origin: a block's launches are the same whatever blocks join them
     if hit.any():
         cue = source.foam_cue(xy[:, hit], when, np.full(int(hit.sum()), level, np.float32),

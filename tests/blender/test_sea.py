@@ -70,8 +70,9 @@ def test_a_keyed_wind_keeps_its_tiles(sea, bridge):
 
 def test_a_keyed_wind_s_coming_seas_are_calibrated_ahead(sea, bridge, extension, monkeypatch):
     """Under a keyed wind the viewport's frame hands the worker the wind at the coming seconds
-    (read from its curve), and the worker makes the whitecaps' calibrations of those winds'
-    lattice seas too, not only of the seas about the wind now."""
+    (read from its curve), and asks it for (reserves) the whitecaps' calibrations of those
+    winds' lattice seas too, not only of the seas about the wind now (the making itself, the
+    same for any sea: test_playing_calibrates_the_coming_seconds_foam_ahead)."""
     foam, s, scene = extension.projgrid_addon.foam, sea.projgrid, bpy.context.scene
     s.wind_speed = 8.0
     s.keyframe_insert("wind_speed", frame=1)

@@ -111,12 +111,12 @@ def section(report):
     for grid in ("viewport 65×129", "render 257×513"):
         one, ten, still = (by[(f"{v}", grid)] / by[(f"{v}, wakes off", grid)]
                            for v in ("one boat", "ten boats", "one boat at rest"))
-        why = ("each wake is read at every vertex it reaches (about a quarter of a "
-               "microsecond a vertex: its place along and across the course, then the steady "
+        why = ("each wake is read at every vertex its course's box reaches (about a quarter of "
+               "a microsecond a vertex: its place along and across the course, then the steady "
                "wake at two Froude numbers, near and far), some 75,000 of the render grid's "
-               "for a boat crossing the view; on every other row and column only where the "
-               "grid is finer than a 32nd of its transverse wave (wake_field.read_grid: here "
-               "a quarter of the viewport grid's vertices, two thirds of the render grid's)")
+               "for a boat crossing the view; wake_field.read_grid reads every other row and "
+               "column only where the grid is finer than a 32nd of the transverse wave, which "
+               "leaves the viewport grid's read at nearly every vertex")
         report.targets += [
             Target(f"One boat's wake ≤ 1.3× the frame without it ({grid})", f"{one:.2f}×",
                    one <= 1.3, f"**One wake ({grid}).** {one:.2f}× the frame without it: "
