@@ -58,7 +58,7 @@ test-4.5: $(VENV45)/.blender
 	$(PY45) -m pytest -m "not slow or lts" tests/blender
 	$(PY45) -m pytest tests/core
 
-# The inner loop: everything but the slow tests (EEVEE renders, the 5,000-pose suite, the largest
+# The inner loop: everything but the slow tests (EEVEE renders, the 7,000-pose suite, the largest
 # grid, the tiling check) on 5.2: about four minutes on a 2-core machine, under three of them the
 # Blender tests that render nothing.
 test-fast: $(VENV)/.blender
