@@ -1,16 +1,14 @@
 """The spectral sea's bands summed at points (spectral_field.SpectralField.sample), each weighted
-by the band limit (thesis §3.2, band_limit.py), and with it the crest sum: the height and
-sideways displacement (GEOMETRY) of the waves up to a band limit `cap` (the whitecaps' level,
-foam.whitecap_level), which the foam's cue is taken from (foam.foam_field) without sampling
-the sea again. Its height is the wind sea's (`crest_height`): a swell's core and the bands of
-waves all longer than the sea's `crest_longest` are left out, as swells do not break
-(SpectralField.foam_cue).
+by the band limit (thesis §3.2, band_limit.py), and with it the crest sum: the sideways
+displacement of the waves up to a band limit `cap` (the whitecaps' level, foam.whitecap_level),
+which the foam's cue is taken from (foam.foam_field) without sampling the sea again.
 
 The bands come longest first, so the crest sum is, for most bands, a copy of the running sum
-once the bands it keeps whole are in (less the heights it leaves out, summed aside till then):
-every band with level + 1 <= cap, summed before the first that is not, is what the crest sum
-holds of them; the band `cap` falls within is added to both, each with its own weight
-(`crest_weights`), and so is any later band the cap keeps."""
+once the bands it keeps whole are in: every band with level + 1 <= cap, summed before the
+first that is not, is what the crest sum holds of them; the band `cap` falls within is added
+to both, each with its own weight (`crest_weights`), and so is any later band the cap keeps
+(none in a sea laid out by cascade.layout: the one band out of order, a swell's core, is not
+displaced sideways)."""
 
 import numpy as np
 
@@ -22,7 +20,7 @@ from .band_limit import (
     row_jobs,
     row_parts,
 )
-from .cascade import GEOMETRY, SIDEWAYS
+from .cascade import SIDEWAYS
 from .scratch import scratch
 from .tiles import Lookup
 from .warp import Warp
@@ -33,25 +31,19 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
     into `out` (times, fields, rows, columns), band by band (its tiles share its rows and
     coarse part; `lods`: each of sea.groups' band limit), each tile read where the warp
     turned by its own turn moves the points `points` (4, rows, columns: offsets, warp).
-    `crest` (cap, into): also the GEOMETRY fields (which `fields` must hold) of the waves
-    band limit min(lod, cap) keeps, into `into` (times, 3, rows, columns)."""
+    `crest` (cap, into): also the SIDEWAYS fields (which `fields` must hold) of the waves
+    band limit min(lod, cap) keeps, into `into` (times, 2, rows, columns)."""
     mins = {}
     cap, into = crest if crest is not None else (None, None)
     copied = crest is None
-    kept = [fields.index(f) for f in GEOMETRY] if crest is not None else None
-    aside = None  # the heights left out of the crest sum, of the bands summed before its copy
+    sideways = [fields.index(f) for f in SIDEWAYS] if crest is not None else None
     for (level, _, tiles), lod in zip(sea.groups, lods, strict=True):
         if not sea.cascades[tiles[0]].gives.intersection(fields):
             continue
         if not copied and level + 1.0 > cap:  # every band the cap keeps whole is in
-            _copy(out, kept, into, aside)
+            _copy(out, sideways, into)
             copied = True
-        feed = None if crest is None else GEOMETRY if crest_height(sea, tiles) else SIDEWAYS
         keeps = copied and cap is not None and level < cap  # in the crest sum too
-        set_aside = not copied and feed is SIDEWAYS
-        if set_aside and aside is None:
-            aside = scratch("aside", into.shape, np.float32)
-            aside.fill(0.0)
         if on_grid and id(lod) not in mins:
             mins[id(lod)] = lod.min(axis=1)
         row_min = mins.get(id(lod))
@@ -69,9 +61,7 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
             part = None
             if keeps:  # a band the cap keeps whole where the points do: the same weight
                 part = (into[:, :, rows], weight if level + 1.0 <= cap else crest_weights(
-                    None if lod is None else lod[rows], level, cap), feed)
-            elif set_aside:
-                part = (aside[:, :, rows], weight, (0,))
+                    None if lod is None else lod[rows], level, cap))
             for j in tiles:
                 _add(sea, textures, j, points[:, rows], origin, fields, out[:, :, rows],
                      weight, part)
@@ -85,24 +75,13 @@ def sum_bands(sea, textures, origin, points, lods, fields, out, on_grid, crest=N
             filled = scratch("filled", out[0, 0, coarse].shape, np.float32)
             share = crest_weights(None, level, cap) if keeps else None
             for k in range(out.shape[0]):
-                for i, f in enumerate(fields):
+                for i in range(len(fields)):
                     fill_every_other(sums[k, i], filled)
                     out[k, i, coarse] += filled
-                    if share is not None and f in feed:
-                        into[k, GEOMETRY.index(f), coarse] += filled * share
-                    elif set_aside and f == 0:
-                        aside[k, 0, coarse] += filled
+                    if share is not None and i in sideways:
+                        into[k, sideways.index(i), coarse] += filled * share
     if not copied:
-        _copy(out, kept, into, aside)
-
-
-def crest_height(sea, tiles):
-    """Whether the crest sum holds the height of the band of `tiles` (indices into
-    sea.cascades): displaced sideways (not a swell's core) and holding a wave shorter than
-    the sea's `crest_longest`."""
-    first = sea.cascades[tiles[0]]
-    return 1 in first.gives and min(
-        sea.cascades[j].shortest_held for j in tiles) < sea.crest_longest
+        _copy(out, sideways, into)
 
 
 def crest_weights(lod, level, cap):
@@ -115,17 +94,15 @@ def crest_weights(lod, level, cap):
                           scratch("crest weights", lod.shape, lod.dtype))
 
 
-def _copy(out, kept, into, aside):
-    """The running sums' GEOMETRY fields into the crest sum, less the heights set `aside`."""
-    into[...] = out[:, kept]
-    if aside is not None:
-        into[:, 0] -= aside[:, 0]
+def _copy(out, sideways, into):
+    """The running sums' SIDEWAYS fields into the crest sum."""
+    into[...] = out[:, sideways]
 
 
 def _add(sea, textures, j, points, origin, fields, out, weight, part):
     """Add tile j's `fields` (of each time's `textures`) at `points` as `sum_bands`'s into
-    `out`, times `weight` if given; with `part` (into, weight, feed), its fields in `feed` into
-    `into` (times, 3, ...: GEOMETRY's places) too, times that weight if given."""
+    `out`, times `weight` if given; with `part` (into, weight), its SIDEWAYS fields into `into`
+    (times, 2, ...) too, times that weight if given."""
     cascade = sea.cascades[j]
     where = Lookup.turned(cascade.texels, points, origin, cascade.texels / cascade.size,
                           cascade.turn, shift_turn=Warp.turn(j))
@@ -134,8 +111,8 @@ def _add(sea, textures, j, points, origin, fields, out, weight, part):
             if f not in at[j]:  # a field the tile does not hold: 0
                 continue
             v = where.sample(at[j][f])
-            if part is not None and f in part[2]:
-                crest = part[0][k, GEOMETRY.index(f)]
+            if part is not None and f in SIDEWAYS:
+                crest = part[0][k, SIDEWAYS.index(f)]
                 if part[1] is None:
                     crest += v
                 else:

@@ -33,15 +33,15 @@ LAYER_FIRST = 3  # the bands from this one on are the slope layer's too (slope_l
 # Where over a band's fade-in the foam is calibrated (foam_levels), as fractions of it: closer
 # at its start, where the cue's spread changes fastest.
 FOAM_STEPS = (0.0, 0.125, 0.25, 0.5, 1.0)
-WHITECAP_WAVE = 8.0  # m: the shortest waves whose whitecaps a vertex places (foam.py)
 SHARE_PER_TILE = 0.12  # the most of the sea's height variance one tile may hold
 BIG = 2  # how many times more texels (and metres) a band holding more than that has
-FIELDS = ("h", "dx", "dy", "sx", "sy")  # a tile's: height, choppy displacement, slopes
+# Fields a tile can give: the height, the choppy displacement along x and y, and the height's
+# slopes along x and y (slope_layer.py).
+FIELDS = ("h", "dx", "dy", "sx", "sy")
 # ln(m/s): a keyed wind's sea is made at winds this far apart in log wind (5 %), its frames'
 # interpolated between (`wind_lattice`); its whitecaps are calibrated alike (foam.py).
 WIND_LATTICE = 0.05
 GEOMETRY = (0, 1, 2)
-EVERY_BAND = float("inf")  # a band limit keeping every band (a crest sum's: band_sum.py)
 SIDEWAYS = (1, 2)
 
 

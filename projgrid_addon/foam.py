@@ -9,7 +9,7 @@ frame alone (a farm splitting frames renders the same foam)."""
 import numpy as np
 
 from . import made_once, past_grid, residual_foam, streaks
-from .cascade import WHITECAP_WAVE, wind_lattice
+from .cascade import wind_lattice
 from .effects import FOAM_MIN_COVERAGE, whitecap_coverage
 
 # Added to a whitecap threshold where the sea has no wave to foam: out of any cue's reach.
@@ -20,6 +20,10 @@ FOAM_SOFTNESS = 1.0  # a whitecap's ramp at full detail, in the cue's standard d
 # A linear ramp this many standard deviations wide has the slope of the normal distribution's
 # CDF at its middle (sqrt(2 pi)): the share of a vertex that the waves it leaves out foam.
 UNRESOLVED_RAMP = 2.5
+
+# m: waves longer than this make whitecaps a vertex should place; the foam of shorter ones is
+# the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover).
+WHITECAP_WAVE = 8.0
 
 
 def sea_sample(span, samples=4096):
@@ -117,7 +121,7 @@ def whitecap_level(source):
     """The band limit from which the waves whitecaps break on (longer than WHITECAP_WAVE) are
     whole, within the calibrated levels: vertices finer than that take their cue there, so
     a whitecap is a patch as large as its breaker, not the shorter waves' folds; their foam
-    is the shader's grain (as the shader's WHITECAP: beyond it a pixel shows the mean cover)."""
+    is the shader's grain."""
     levels = source.foam_levels()
     return float(np.clip(source.whole_level(WHITECAP_WAVE), levels[0], levels[-1]))
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from . import spectrum
 from .band_limit import every_other_of, every_other_shape, fill_every_other
-from .cascade import EVERY_BAND, GEOMETRY
+from .cascade import SIDEWAYS
 
 SAMPLES_PER_DECAY = 3.0  # past samples per decay time (an absolute lattice of step tau / 3)
 ACTIVE_TIME = 0.7  # s a breaker stays active (stage A)
@@ -102,9 +102,9 @@ def cue_at(source, xy, time, lod, top=None):
     if top is not None:
         lod = np.minimum(lod, np.float32(top))
     times = time if isinstance(time, tuple) else (time,)
-    if hasattr(source, "grid_cue"):  # the spectrum's: its folding and crests, on the grid
-        cues = [source.grid_cue(xy, crest) for crest in source.sample(
-            xy, times, lod, GEOMETRY, on_grid=True, crest=EVERY_BAND)[1]]
+    if hasattr(source, "grid_cue"):  # the spectrum's: its folding, on the grid
+        cues = [source.grid_cue(xy, shift)
+                for shift in source.sample(xy, times, lod, SIDEWAYS, on_grid=True)]
     else:
         cues = [source.foam_cue(xy, t, lod) for t in times]
     return cues if isinstance(time, tuple) else cues[0]

@@ -14,13 +14,13 @@ A swell's core (spectrum.in_swell_core: near its peak, within a few degrees of i
 tiles of its own, band-limited along its headings (band_limit.along_waves): the grid's rows, tens
 of metres deep a few hundred metres out, cannot hold a wave heading toward the camera, but one
 crossing the view they can, and the swell is the sea's longest and straightest waves. The core is
-not displaced sideways (a swell's steepness, a few hundredths, sharpens no crest a picture shows)
-and, as swells do not break, adds nothing to the foam's cue (`foam_cue`).
+not displaced sideways: a swell's steepness, a few hundredths, sharpens no crest a picture shows,
+and swells do not break, so it adds nothing to the foam's folding.
 
 The choppy displacement moves points toward the crests, D(x) = sum of i lambda (k / |k|) h
 e^(i k.x) (Tessendorf §4.4, with the sign that sharpens the crests), and the surface folds where
-its Jacobian, (1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue, taken
-as the mesh shows it, between neighbouring vertices (`jacobian`), with the crests' steepness.
+its Jacobian, (1 + dDx/dx)(1 + dDy/dy) - dDx/dy dDy/dx, falls below zero: the foam's cue. The
+Jacobian is taken as the mesh shows it, by differences between neighbouring vertices (`jacobian`).
 
 A frame is a pure function of (seed, sea state, choppiness, time): the phases come from the seed
 alone, so frame N is the same computed alone or after 1..N-1, on any machine.
@@ -39,12 +39,11 @@ from .band_sum import sum_bands
 from .cascade import (
     BAND_LONGEST,
     BANDS,
-    EVERY_BAND,
     FOAM_STEPS,
     GEOMETRY,
     LAYER_FIRST,
+    SIDEWAYS,
     TEXELS,
-    WHITECAP_WAVE,
     band_level,
     band_of,
     band_shares,
@@ -61,7 +60,6 @@ from .validation import finite, integer, non_negative
 from .warp import Warp
 
 MOMENTS = 12  # times whose tiles a source keeps (`SpectralField._at`)
-CREST_BIAS = 1.0  # k_p h's weight in the foam's cue: a peak wave's chop's at lambda = 1
 
 
 class SpectralField:
@@ -99,11 +97,6 @@ class SpectralField:
         if swell:
             self._shares[band_of(swell_wave(state))] += shares[BANDS]
         self._m0 = spectrum.moments(state)[0]
-        # The foam cue's crests (`foam_cue`): what a metre of the wind sea's height adds, rad/m,
-        # CREST_BIAS times its peak wavenumber; the longest waves counted, twice the peak's
-        # (where JONSWAP's density is 4 % of the peak's; a band of longer ones is a swell's).
-        peak = max(spectrum.peak_wavelength(state), WHITECAP_WAVE)
-        self.crest_slope, self.crest_longest = CREST_BIAS * 2.0 * np.pi / peak, 2.0 * peak
 
     foam_span = BAND_LONGEST  # metres across the sea pattern whitecaps are calibrated on
 
@@ -173,19 +166,14 @@ class SpectralField:
         return levels or [0.0]
 
     def foam_cue(self, xy, t, lod=None, grid=None, band=None, origin=None):
-        """Where whitecaps form on the spectral sea, -J + `crest_slope` h (`jacobian`'s
-        arguments): where the surface folds, its Jacobian J lowest (Jensen and Golias), and on
-        the dominant waves' crests, their local steepness k_p h (h of the waves J is of, a
-        swell's core left out): whitecaps break at the crests of a group's highest waves
-        (Donelan, Longuet-Higgins and Turner 1972), as their steepness sets (Banner, Babanin
-        and Young 2000)."""
-        folding, height = self._folding(xy, t, lod, grid, band, origin)
-        return self.crest_slope * height - folding
+        """Where whitecaps form on the spectral sea: where the surface folds, its Jacobian
+        lowest (Jensen and Golias). See `jacobian`."""
+        return -self.jacobian(xy, t, lod, grid, band, origin)
 
-    def grid_cue(self, xy, crest):
-        """`foam_cue` of a grid's points xy (2, rows, columns) from their crest sum `crest`
-        (h, dx, dy: `sample`'s), its folding between neighbours as the mesh shows it."""
-        return self.crest_slope * crest[0] - grid_jacobian(xy, crest[1:])
+    def grid_cue(self, xy, shift):
+        """`foam_cue` of a grid's points xy (2, rows, columns) displaced by `shift` (the crest
+        sum, say: `sample`'s `crest`), between neighbours as the mesh shows it."""
+        return -grid_jacobian(xy, shift)
 
     def shader_octaves(self, lod):
         """(first, count): the bands some vertex left out, in part or whole."""
@@ -293,9 +281,8 @@ class SpectralField:
         `on_grid`: xy (2, rows, columns) are a grid's vertices, neighbours both ways, so a band
         long against the spacing is sampled on every other row and column (band_limit.COARSE).
         `origin` (x, y): every chunk's offsets' (None: `_origin`), so each point's are its own.
-        `crest` (a band limit, EVERY_BAND for all; `fields` holding GEOMETRY): (sums, crest
-        sums), the latter the GEOMETRY fields of the waves min(lod, crest) keeps but a swell's
-        core (band_sum.py), float32."""
+        `crest` (a band limit; `fields` holding SIDEWAYS): (sums, crest sums), the latter the
+        SIDEWAYS fields of the waves min(lod, crest) keeps (band_sum.py), float32."""
         times = t if isinstance(t, tuple) else (t,)
         textures = [self._at(when, fields)[1] for when in times]
         xy = np.asarray(xy, dtype=np.float64)
@@ -303,8 +290,8 @@ class SpectralField:
         rows = (1, -1) if len(shape) < 2 else (-1, shape[-1])
         out = np.empty((len(times), len(fields)) + shape)
         xy2, out2 = xy.reshape((2,) + rows), out.reshape((len(times), len(fields)) + rows)
-        crests = None if crest is None else np.empty((len(times), 3) + shape, np.float32)
-        crests2 = None if crest is None else crests.reshape((len(times), 3) + rows)
+        crests = None if crest is None else np.empty((len(times), 2) + shape, np.float32)
+        crests2 = None if crest is None else crests.reshape((len(times), 2) + rows)
         lod2 = None if lod is None else np.asarray(lod).reshape(rows)
         on_grid = on_grid and lod2 is not None and len(shape) == 2
         lods = [lod2 if along is None or not on_grid else along_waves(xy2, lod2, level, along)
@@ -358,36 +345,34 @@ class SpectralField:
         return self.sample(np.stack([x, np.broadcast_to(y, x.shape)]), t, lod, (0,))[0]
 
     def jacobian(self, xy, t, lod=None, grid=None, band=None, origin=None):
-        """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh shows it, by differences
-        between neighbours. `grid` given: xy (2, rows, columns) are a frame's grid points and
-        `grid` the same points displaced (`displacement`; without choppiness, xy), its map's
-        central differences (one-sided on the border). Otherwise xy (2, ...) are points apart,
-        the differences central over the spacing their `lod` stands for (band_limit.
-        lod_for_spacing; None: every band whole), of the waves `band` keeps if lower (a finer
-        grid's; `origin`: `sample`'s)."""
-        return self._folding(xy, t, lod, grid, band, origin)[0]
+        """The choppy surface's Jacobian (1 flat, < 0 folded) as a mesh shows it: by differences
+        between neighbouring vertices, each wave's slope lessened as they lessen it.
 
-    def _folding(self, xy, t, lod, grid, band, origin):
-        """(`jacobian`, the height at xy of the waves it is taken of, a swell's core left out)."""
+        `grid` given: xy (2, rows, columns) are a frame's grid points on the sea and `grid` the
+        same points displaced (`displacement`; without choppiness, xy itself), and the Jacobian
+        is that of the map from one to the other between neighbours (central differences,
+        one-sided on the border). Otherwise xy (2, ...) are points apart, and the differences
+        are central over the spacing their `lod` stands for (band_limit.lod_for_spacing; None:
+        every band whole), along x and y, of the waves `band` keeps if lower (a finer grid's;
+        `origin`: `sample`'s)."""
         xy = np.asarray(xy, dtype=np.float64)
         if grid is not None:
-            crest = self.sample(xy, t, lod, GEOMETRY, crest=EVERY_BAND)[1]
-            shift = crest[1:] if self.choppiness == 0.0 else grid - xy
-            return grid_jacobian(xy, shift), crest[0]
+            return grid_jacobian(xy, self.sample(xy, t, lod, SIDEWAYS) if self.choppiness == 0.0
+                                 else grid - xy)
         top = max(self.levels, default=0.0) + 1.0  # every band whole: no finer spacing counts
         level = np.full(xy.shape[1:], top) if lod is None else np.minimum(lod, top)
         step = self.wave_scale * 2.0 ** -level / 2.0  # lod = log2(wave_scale / (2 spacing))
-        points = np.repeat(xy[:, None], 5, axis=1)  # (2, 5, ...): +x, -x, +y, -y, the point
+        points = np.repeat(xy[:, None], 4, axis=1)  # (2, 4, ...): +x, -x, +y, -y
         points[0, :2] += np.multiply.outer((1.0, -1.0), step)
-        points[1, 2:4] += np.multiply.outer((1.0, -1.0), step)
+        points[1, 2:] += np.multiply.outer((1.0, -1.0), step)
         kept = level if band is None else np.minimum(level, band)
         lods = None if lod is None and band is None else np.broadcast_to(
             kept.astype(np.float32), points.shape[1:])
-        h, dx, dy = self.sample(points, t, lods, GEOMETRY, origin=origin, crest=EVERY_BAND)[1]
+        dx, dy = self.sample(points, t, lods, SIDEWAYS, origin=origin)
         span = 2.0 * step
         ddx_x, ddy_x = (dx[0] - dx[1]) / span, (dy[0] - dy[1]) / span
         ddx_y, ddy_y = (dx[2] - dx[3]) / span, (dy[2] - dy[3]) / span
-        return (1.0 + ddx_x) * (1.0 + ddy_y) - ddx_y * ddy_x, h[4]
+        return (1.0 + ddx_x) * (1.0 + ddy_y) - ddx_y * ddy_x
 
 
 @lru_cache(maxsize=8)

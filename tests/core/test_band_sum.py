@@ -1,13 +1,12 @@
-"""The crest sum (band_sum.py): the height and sideways displacement of the waves up to a band
-limit but a swell's core, summed in the grid's own sampling pass, is that of those waves
-sampled on their own, and the sums
+"""The crest sum (band_sum.py): the sideways displacement of the waves up to a band limit, summed
+in the grid's own sampling pass, is that of those waves sampled on their own, and the sums
 beside it are unchanged (the cue a frame takes from it spreads as its calibration's:
 test_foam)."""
 
 import numpy as np
 import pytest
 
-from projgrid_addon import band_limit, band_sum
+from projgrid_addon import band_limit
 from projgrid_addon.camera import look_at, perspective
 from projgrid_addon.cascade import GEOMETRY, SIDEWAYS
 from projgrid_addon.projected_grid import build_grid
@@ -21,38 +20,33 @@ SEAS = [SeaState(wind_speed=19.0), SeaState(wind_speed=9.0, swell_height=1.5, sw
 
 @pytest.mark.parametrize("state", SEAS, ids=["gale", "swell"])
 @pytest.mark.parametrize("choppiness", [0.0, 1.0])
-def test_the_crest_sum_is_the_capped_waves_geometry(state, choppiness):
+def test_the_crest_sum_is_the_capped_waves_sideways(state, choppiness):
     """At points apart, of band limits across every band's fade-in (and of none: every band
-    whole), the crest sum at a cap is the fields sampled alone at min(lod, cap): the sideways
-    displacement of every band, the height of the wind sea's (band_sum.crest_height: the
-    swell's core and its longer bands left out), within float32 rounding (the points'
-    offsets from one origin, so only the sums' order differs), at caps on a band's level,
-    inside its fade-in and beyond every band, and so with the bands summed in reverse order;
-    the sums beside it are those sampled without it, bit for bit."""
+    whole), the crest sum at a cap is the SIDEWAYS fields sampled alone at min(lod, cap),
+    within float32 rounding (the points' offsets from one origin, so only the sums' order
+    differs), at caps on a band's level, inside its fade-in and beyond every
+    band, and so with the bands summed in reverse order; the sums beside it are those sampled
+    without it, bit for bit."""
     sea = SpectralField(state, choppiness=choppiness, seed=4)
     rng = np.random.default_rng(1)
     xy = rng.uniform(-400.0, 400.0, (2, 40, 50))
     lod = rng.uniform(min(sea.levels) - 1.0, max(sea.levels) + 1.5, (40, 50)).astype(np.float32)
-    scale = float(np.abs(sea.sample(xy, 7.0, None, GEOMETRY)).max())
+    scale = float(np.abs(sea.sample(xy, 7.0, None, SIDEWAYS)).max())
     reverse = SpectralField(state, choppiness=choppiness, seed=4)
     reverse.groups = reverse.groups[::-1]
-    wind = SpectralField(state, choppiness=choppiness, seed=4)
-    wind.groups = [g for g in wind.groups if band_sum.crest_height(wind, g[2])]
-    assert (len(wind.groups) < len(sea.groups)) == (state.swell_height > 0.0)  # its core too
     for cap in (sea.levels[2], sea.levels[2] + 0.4, max(sea.levels) + 2.0):
         for points in (lod, None):
             capped = None if points is None else np.minimum(points, np.float32(cap))
             if points is None:
                 capped = np.full(lod.shape, np.float32(cap))
-            alone = np.concatenate([wind.sample(xy, 7.0, capped, (0,), origin=ORIGIN),
-                                    sea.sample(xy, 7.0, capped, SIDEWAYS, origin=ORIGIN)])
+            alone = sea.sample(xy, 7.0, capped, SIDEWAYS, origin=ORIGIN)
             for source in (sea, reverse):
                 sums, crest = source.sample(xy, 7.0, points, GEOMETRY, crest=cap, origin=ORIGIN)
                 assert np.array_equal(sums, source.sample(xy, 7.0, points, GEOMETRY, origin=ORIGIN))
-                assert crest.dtype == np.float32 and crest.shape == (3, 40, 50)
+                assert crest.dtype == np.float32 and crest.shape == (2, 40, 50)
                 assert np.abs(crest - alone).max() < 1e-5 * scale, (cap, points is None)
     inside = sea.sample(xy, 7.0, lod, GEOMETRY, crest=sea.levels[2] + 0.4)[1]
-    assert np.abs(inside[1:] - sea.sample(xy, 7.0, lod, SIDEWAYS)).max() > 0.1 * scale
+    assert np.abs(inside - sea.sample(xy, 7.0, lod, SIDEWAYS)).max() > 0.1 * scale
 
 
 def test_a_grid_s_crest_sum_keeps_the_capped_band_s_share_on_coarse_rows_too():

@@ -11,7 +11,6 @@ from look_numpy import NUMPY, footprint_log, grain_facs, group_inputs
 from projgrid_addon import (
     HeightField,
     band_limit,
-    cascade,
     effects,
     foam,
     residual_foam,
@@ -386,8 +385,8 @@ def test_active_and_residual_foam_cover_monahan_s_share(force):
     shares = []
     for t in (20.0, 27.3, 34.9):
         placed = foam.whitecap_level(source)
-        sums, crest = source.sample(xy, t, lod, cascade.GEOMETRY, crest=placed)
-        moved = xy + sums[1:]  # a frame's grid (build_grid), here square
+        sideways, crest = source.sample(xy, t, lod, (1, 2), crest=placed)
+        moved = xy + sideways  # a frame's grid (build_grid), here square
         grid = types.SimpleNamespace(base=xy, surface=(moved[0], moved[1], None), lod=lod,
                                      crest=(placed, crest))
         active, residual = foam.foam_field(source, grid, t, preset.wind_speed, True, [], 0.0)
