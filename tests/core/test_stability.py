@@ -21,9 +21,9 @@ from .poses import POP, POPPING, check_pose, fresh_poses, poses
 
 __all__ = ["POPPING"]  # read by tests/conftest.py's summary
 
-# CI's hypothesis examples are the same every run and cost about twice a fresh pose (the poses
-# hypothesis favours, its spectral seas most); the fresh batch, from a new seed every run, is
-# the larger: about 50 s on CI's two cores.
+# A hypothesis pose costs 1.6-2.4 times a fresh one (the poses hypothesis favours, its spectral
+# seas most: docs/testing.md); the fresh batch, from a new seed every run, is the larger (about
+# 50 s in CI's 4.5 lane at 9.6 ms a pose).
 EXAMPLES = 2_000
 FRESH = 5_000
 
